@@ -1,0 +1,84 @@
+// The data model shared by every stage (DESIGN.md §3).
+//
+// Conventions, written down once:
+// - Units: metres for 3D, pixels for 2D, milliseconds for timings.
+// - Camera frame: x right, y down, z forward (OpenCV / 3DMatch / 7-Scenes convention).
+// - A transform named T_a_b maps coordinates expressed in frame b into frame a: x_a = T_a_b * x_b.
+//   A dataset pose file is T_world_camera. A 3DMatch gt.log entry "i j" is T_i_j (maps fragment j
+//   into fragment i). The registration result is T_target_source.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <map>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace zeroreg {
+
+using Transform = Eigen::Matrix4d;  // rigid transform, homogeneous 4x4, named T_to_from
+
+struct Intrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
+  int width = 0, height = 0;              // pixels
+};
+
+// One posed RGB-D image.
+struct View {
+  std::string name;    // file or frame name, used in messages and pictures
+  cv::Mat color;       // CV_8UC3, BGR
+  cv::Mat depth;       // CV_32FC1, metres, 0 = invalid; same size as color
+  Intrinsics intrinsics;
+  Transform T_scan_camera = Transform::Identity();  // camera -> scan frame
+  // Ground truth, when the dataset has it: camera -> world. Used only for evaluation.
+  std::optional<Transform> T_world_camera_gt;
+};
+
+// What is registered: posed views plus the point cloud they describe (may be empty, in which case
+// the views' depth is the geometry). One RGB-D frame is a scan with one view and identity pose; a
+// 3DMatch fragment is a TSDF fusion of 50 frames with k chosen views.
+struct Scan {
+  std::string name;
+  std::vector<View> views;
+  std::vector<Eigen::Vector3d> points;  // scan frame, metres
+  std::vector<Eigen::Vector3d> colors;  // optional, RGB in [0,1], same size as points or empty
+  // Ground truth, when known: scan -> world. Used only for evaluation.
+  std::optional<Transform> T_world_scan_gt;
+};
+
+// A 3D correspondence between the two scans, with the pixels it came from.
+struct Correspondence {
+  Eigen::Vector3d source = Eigen::Vector3d::Zero();  // source scan frame, metres
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();  // target scan frame, metres
+  Eigen::Vector2f source_pixel = Eigen::Vector2f::Zero();
+  Eigen::Vector2f target_pixel = Eigen::Vector2f::Zero();
+  int view = 0;         // index of the view pair (source view i with target view i)
+  float score = 0.0f;   // matcher confidence (cosine similarity or match probability)
+};
+
+// One row of per-stage wall time, in milliseconds, in pipeline order.
+struct StageTime {
+  std::string stage;
+  double ms = 0.0;
+};
+
+struct RegistrationResult {
+  Transform T_target_source = Transform::Identity();
+  bool valid = false;
+  std::string reason;           // why valid is false (or a short summary when true)
+  std::string path;             // which correspondence source produced the transform, e.g. "image"
+  int num_keypoints_source = 0;
+  int num_keypoints_target = 0;
+  int num_correspondences = 0;  // 3D correspondences given to the estimator
+  int num_inliers = 0;          // RANSAC inliers under the final transform
+  double inlier_ratio = 0.0;    // num_inliers / num_correspondences
+  double inlier_rmse = 0.0;     // metres, over the RANSAC inliers
+  int ransac_iterations = 0;
+  std::vector<Correspondence> correspondences;
+  std::vector<bool> is_inlier;  // parallel to correspondences
+  std::vector<StageTime> timings;
+};
+
+}  // namespace zeroreg
