@@ -1,0 +1,42 @@
+// Scene graphs over detected objects (paper §3.3, Eq. 1) and the node similarity matrix C.
+//
+// Pure Eigen: one row per object, centroids in metres, semantic vectors of any dimension d (CLIP
+// text embeddings, or one-hot label vectors for the "without CLIP" ablation). See docs/MATCHING.md.
+#pragma once
+
+#include <Eigen/Core>
+
+namespace zeroreg {
+
+struct SceneGraphConfig {
+  // Each node is connected to its knn nearest other nodes by Euclidean distance of the centroids
+  // (paper: k = 3). A graph with N <= knn nodes is complete.
+  int knn = 3;
+  // The paper's kNN relation is directed (k in kNN(j) does not imply j in kNN(k)). When true
+  // (default) W is symmetrised with max, i.e. the union of both directions; the weight 1 + cos is
+  // itself symmetric, so max only adds the missing direction. Why: a directed kNN edge flips when
+  // one nearby object is missing or added in the other scan (partial overlap), whereas the union
+  // graph changes less; a symmetric W also makes the Frobenius term of Eq. 2 count every edge
+  // twice, once per direction, so no direction is privileged. The matchers accept either.
+  bool symmetric = true;
+};
+
+// Cosine similarity of two vectors; 0 when either is the zero vector (no semantic evidence).
+double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,
+                        const Eigen::Ref<const Eigen::VectorXd>& b);
+
+// Affinity matrix W of Eq. 1 (N x N, zero diagonal):
+//   W_jk = 1 + cos(s_j, s_k)  if v_k in kNN(v_j) (k != j),  else 0,
+// made symmetric with max when config.symmetric. Ties in distance go to the lower index, so the
+// graph is deterministic. Throws InputError when the row counts differ, centroids are not N x 3,
+// values are not finite or knn < 1.
+Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
+                                    const Eigen::MatrixXd& semantics,
+                                    const SceneGraphConfig& config = {});
+
+// Node similarity C (n x m) of §3.3: C_jk = 1 + cos(s^p_j, s^q_k), in [0, 2]. Throws InputError
+// when the semantic dimensions differ or values are not finite.
+Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
+                               const Eigen::MatrixXd& semantics_target);
+
+}  // namespace zeroreg

@@ -1,0 +1,132 @@
+#include "point_match/sinkhorn.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+
+// log sum_k exp(M_ik) per row, shifted by the row maximum so that nothing overflows.
+Eigen::VectorXd RowLogSumExp(const Eigen::MatrixXd& m) {
+  Eigen::VectorXd out(m.rows());
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    const double mx = m.row(i).maxCoeff();
+    if (!std::isfinite(mx)) {
+      out(i) = mx;  // all -inf: no mass can go anywhere
+      continue;
+    }
+    out(i) = mx + std::log((m.row(i).array() - mx).exp().sum());
+  }
+  return out;
+}
+
+}  // namespace
+
+Eigen::MatrixXd SinkhornLogAssignment(const Eigen::MatrixXd& scores, const SinkhornConfig& config) {
+  if (!(config.temperature > 0.0) || !std::isfinite(config.temperature)) {
+    throw MakeInputError("SinkhornConfig.temperature",
+                         "is " + std::to_string(config.temperature) + ", expected > 0");
+  }
+  if (config.iterations < 0) {
+    throw MakeInputError("SinkhornConfig.iterations",
+                         "is " + std::to_string(config.iterations) + ", expected >= 0");
+  }
+  if (!std::isfinite(config.dustbin_score)) {
+    throw MakeInputError("SinkhornConfig.dustbin_score", "is not finite");
+  }
+  if (!scores.allFinite()) throw MakeInputError("Sinkhorn scores", "contain NaN or infinity");
+
+  const Eigen::Index n = scores.rows();
+  const Eigen::Index m = scores.cols();
+  if (n == 0 || m == 0) {
+    // Every existing point goes to the other side's dustbin with probability 1.
+    Eigen::MatrixXd log_p = Eigen::MatrixXd::Constant(n + 1, m + 1, kNegInf);
+    if (n == 0) log_p.row(0).head(m).setZero();
+    if (m == 0) log_p.col(0).head(n).setZero();
+    return log_p;
+  }
+
+  // Eq. 4: S' with the dustbin row and column, all in logit units.
+  Eigen::MatrixXd z = Eigen::MatrixXd::Constant(n + 1, m + 1, config.dustbin_score);
+  z.topLeftCorner(n, m) = scores / config.temperature;
+
+  // Marginals: unit mass per real point, m for the source dustbin row, n for the target dustbin
+  // column (SuperGlue). Both total n + m.
+  Eigen::VectorXd log_a = Eigen::VectorXd::Zero(n + 1);
+  Eigen::VectorXd log_b = Eigen::VectorXd::Zero(m + 1);
+  log_a(n) = std::log(static_cast<double>(m));
+  log_b(m) = std::log(static_cast<double>(n));
+
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(n + 1);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(m + 1);
+  for (int it = 0; it < config.iterations; ++it) {
+    u = log_a - RowLogSumExp(z.rowwise() + v.transpose());
+    v = log_b - RowLogSumExp((z.colwise() + u).transpose());
+  }
+  Eigen::MatrixXd log_p = z;
+  log_p.colwise() += u;
+  log_p.rowwise() += v.transpose();
+  return log_p;
+}
+
+std::vector<SinkhornMatch> ExtractSinkhornMatches(const Eigen::MatrixXd& log_assignment,
+                                                  const SinkhornConfig& config) {
+  std::vector<SinkhornMatch> matches;
+  const Eigen::Index n = log_assignment.rows() - 1;
+  const Eigen::Index m = log_assignment.cols() - 1;
+  if (n <= 0 || m <= 0) return matches;
+  const auto real = log_assignment.topLeftCorner(n, m);
+  // Best source of every target (first on ties), dustbin row excluded.
+  std::vector<Eigen::Index> best_source(static_cast<std::size_t>(m));
+  for (Eigen::Index k = 0; k < m; ++k) real.col(k).maxCoeff(&best_source[k]);
+  const double log_min = std::log(config.min_probability);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    Eigen::Index k = 0;
+    const double best = real.row(i).maxCoeff(&k);
+    if (!(best >= log_min)) continue;
+    if (config.mutual && best_source[static_cast<std::size_t>(k)] != i) continue;
+    matches.push_back({static_cast<int>(i), static_cast<int>(k), std::exp(best)});
+  }
+  return matches;
+}
+
+std::vector<SinkhornMatch> MatchSinkhorn(const Eigen::MatrixXd& descriptors_source,
+                                         const Eigen::MatrixXd& descriptors_target,
+                                         const SinkhornConfig& config,
+                                         Eigen::MatrixXd* log_assignment) {
+  const Eigen::Index n = descriptors_source.rows();
+  const Eigen::Index m = descriptors_target.rows();
+  if (n > 0 && m > 0 && descriptors_source.cols() != descriptors_target.cols()) {
+    throw MakeInputError("descriptors_target", "have dimension " +
+                                                   std::to_string(descriptors_target.cols()) +
+                                                   ", expected the source's " +
+                                                   std::to_string(descriptors_source.cols()));
+  }
+  if (!descriptors_source.allFinite()) {
+    throw MakeInputError("descriptors_source", "contain NaN or infinity");
+  }
+  if (!descriptors_target.allFinite()) {
+    throw MakeInputError("descriptors_target", "contain NaN or infinity");
+  }
+  Eigen::MatrixXd scores(n, m);  // Eq. 3
+  if (n > 0 && m > 0) scores.noalias() = descriptors_source * descriptors_target.transpose();
+  Eigen::MatrixXd log_p = SinkhornLogAssignment(scores, config);
+  std::vector<SinkhornMatch> matches = ExtractSinkhornMatches(log_p, config);
+  if (log_assignment != nullptr) *log_assignment = std::move(log_p);
+  return matches;
+}
+
+std::vector<SinkhornMatch> MatchSinkhorn(const Eigen::MatrixXf& descriptors_source,
+                                         const Eigen::MatrixXf& descriptors_target,
+                                         const SinkhornConfig& config,
+                                         Eigen::MatrixXd* log_assignment) {
+  return MatchSinkhorn(Eigen::MatrixXd(descriptors_source.cast<double>()),
+                       Eigen::MatrixXd(descriptors_target.cast<double>()), config, log_assignment);
+}
+
+}  // namespace zeroreg
