@@ -11,8 +11,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <map>
-#include <optional>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,9 +27,9 @@ struct Intrinsics {
 
 // One posed RGB-D image.
 struct View {
-  std::string name;    // file or frame name, used in messages and pictures
-  cv::Mat color;       // CV_8UC3, BGR
-  cv::Mat depth;       // CV_32FC1, metres, 0 = invalid; same size as color
+  std::string name;  // file or frame name, used in messages and pictures
+  cv::Mat color;     // CV_8UC3, BGR
+  cv::Mat depth;     // CV_32FC1, metres, 0 = invalid; same size as color
   Intrinsics intrinsics;
   Transform T_scan_camera = Transform::Identity();  // camera -> scan frame
   // Ground truth, when the dataset has it: camera -> world. Used only for evaluation.
@@ -54,8 +54,8 @@ struct Correspondence {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // target scan frame, metres
   Eigen::Vector2f source_pixel = Eigen::Vector2f::Zero();
   Eigen::Vector2f target_pixel = Eigen::Vector2f::Zero();
-  int view = 0;         // index of the view pair (source view i with target view i)
-  float score = 0.0f;   // matcher confidence (cosine similarity or match probability)
+  int view = 0;        // index of the view pair (source view i with target view i)
+  float score = 0.0f;  // matcher confidence (cosine similarity or match probability)
 };
 
 // One row of per-stage wall time, in milliseconds, in pipeline order.
@@ -67,8 +67,8 @@ struct StageTime {
 struct RegistrationResult {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
-  std::string reason;           // why valid is false (or a short summary when true)
-  std::string path;             // which correspondence source produced the transform, e.g. "image"
+  std::string reason;  // why valid is false (or a short summary when true)
+  std::string path;    // which correspondence source produced the transform, e.g. "image"
   int num_keypoints_source = 0;
   int num_keypoints_target = 0;
   int num_correspondences = 0;  // 3D correspondences given to the estimator

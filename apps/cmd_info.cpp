@@ -1,0 +1,46 @@
+#include <cstdio>
+
+#include "commands.hpp"
+#include "config_options.hpp"
+#include "zeroreg/assets.hpp"
+#include "zeroreg/io.hpp"
+#include "zeroreg/json.hpp"
+
+namespace zeroreg::cli {
+namespace {
+
+struct InfoOptions {
+  std::string scan;
+  ConfigOptions config;
+};
+
+}  // namespace
+
+Runner AddInfoCommand(CLI::App& app) {
+  auto o = std::make_shared<InfoOptions>();
+  app.add_option("--scan", o->scan, "also describe this scan (same forms as register --source)");
+  AddConfigOptions(app, &o->config);
+  return [o]() {
+    const PipelineConfig config = BuildConfig(o->config);
+    std::printf("effective config:\n%s\n", ConfigToJson(config).dump(2).c_str());
+    const std::string assets = ResolveAssetsDir(config.assets_dir);
+    std::printf("assets: %s\n", assets.c_str());
+    for (const char* file : {"xfeat/xfeat_640x640.onnx", "yolox_nano_coco/yolox_nano.onnx"}) {
+      std::printf("  %s: %s (sha256 ok)\n", file, RequireAsset(assets, file).c_str());
+    }
+    if (!o->scan.empty()) {
+      const Scan scan = LoadScan(o->scan);
+      std::printf("scan %s: %zu view(s), %zu points, ground truth %s\n", scan.name.c_str(),
+                  scan.views.size(), scan.points.size(), scan.T_world_scan_gt ? "yes" : "no");
+      for (const View& v : scan.views) {
+        const double valid = cv::countNonZero(v.depth > 0) * 100.0 / v.depth.total();
+        std::printf("  view %s: %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f, valid depth %.1f%%\n",
+                    v.name.c_str(), v.color.cols, v.color.rows, v.intrinsics.fx, v.intrinsics.fy,
+                    v.intrinsics.cx, v.intrinsics.cy, valid);
+      }
+    }
+    return kExitOk;
+  };
+}
+
+}  // namespace zeroreg::cli

@@ -1,0 +1,32 @@
+#include "estimate/lift.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace zeroreg {
+
+std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f& pixel,
+                                         const LiftConfig& config) {
+  const int u = static_cast<int>(std::lround(pixel.x()));
+  const int v = static_cast<int>(std::lround(pixel.y()));
+  const cv::Mat& depth = view.depth;
+  if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return std::nullopt;
+  const float z = depth.at<float>(v, u);
+  if (!(z >= config.min_depth_m && z <= config.max_depth_m)) return std::nullopt;
+  // Depth edge: a missing or much nearer/farther reading within the radius means the pixel may
+  // belong to either surface (and colour/depth misalignment makes that likely).
+  const int r = config.depth_edge_radius_px;
+  const float tolerance = static_cast<float>(config.depth_edge_relative) * z;
+  for (int y = std::max(0, v - r); y <= std::min(depth.rows - 1, v + r); ++y) {
+    const float* row = depth.ptr<float>(y);
+    for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {
+      if (row[x] <= 0.0f || std::abs(row[x] - z) > tolerance) return std::nullopt;
+    }
+  }
+  const Intrinsics& K = view.intrinsics;
+  const Eigen::Vector4d camera_point((pixel.x() - K.cx) * z / K.fx, (pixel.y() - K.cy) * z / K.fy,
+                                     z, 1.0);
+  return (view.T_scan_camera * camera_point).head<3>();
+}
+
+}  // namespace zeroreg

@@ -1,0 +1,131 @@
+#include "features/xfeat_extractor.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <opencv2/imgproc.hpp>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+// Bilinear sample of a C x H x W float blob (contiguous) at continuous cell coordinates (u, v),
+// clamped at the borders.
+void SampleBilinear(const float* blob, int channels, int height, int width, float u, float v,
+                    float* out) {
+  u = std::clamp(u, 0.0f, static_cast<float>(width - 1));
+  v = std::clamp(v, 0.0f, static_cast<float>(height - 1));
+  const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
+  const int x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+  const float ax = u - static_cast<float>(x0), ay = v - static_cast<float>(y0);
+  const size_t plane = static_cast<size_t>(height) * width;
+  for (int c = 0; c < channels; ++c) {
+    const float* p = blob + c * plane;
+    const float top = p[y0 * width + x0] * (1 - ax) + p[y0 * width + x1] * ax;
+    const float bottom = p[y1 * width + x0] * (1 - ax) + p[y1 * width + x1] * ax;
+    out[c] = top * (1 - ay) + bottom * ay;
+  }
+}
+
+}  // namespace
+
+XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfig& config)
+    : config_(config) {
+  try {
+    net_ = cv::dnn::readNetFromONNX(model_path);
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(model_path, std::string("cannot load the XFeat ONNX model (") + e.what() +
+                                         "); expected xfeat_640x640.onnx from "
+                                         "../shared/models/xfeat");
+  }
+  if (net_.empty()) throw MakeInputError(model_path, "the XFeat ONNX model loaded empty");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+}
+
+ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
+  const int n = kInputSize, cells = kInputSize / kCell;
+  cv::Mat resized;
+  cv::resize(bgr, resized, cv::Size(n, n), 0, 0, cv::INTER_LINEAR);
+  const cv::Mat blob = cv::dnn::blobFromImage(resized, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
+                                              /*swapRB=*/true, /*crop=*/false);
+  std::vector<cv::Mat> outputs;
+  {
+    std::lock_guard<std::mutex> lock(net_mutex_);
+    net_.setInput(blob, "input");
+    net_.forward(outputs, std::vector<cv::String>{"output", "1266", "266"});
+  }
+  const float* descriptor_map = outputs[0].ptr<float>();  // 64 x 80 x 80
+  const float* logits = outputs[1].ptr<float>();          // 65 x 80 x 80
+  const float* reliability = outputs[2].ptr<float>();     // 1 x 80 x 80, sigmoid applied
+  const int descriptor_dim = outputs[0].size[1];
+  const size_t plane = static_cast<size_t>(cells) * cells;
+
+  // Softmax over the 65 channels of each cell; channel c < 64 is pixel (c / 8, c % 8) of the cell.
+  cv::Mat heat(n, n, CV_32F);
+  for (int cy = 0; cy < cells; ++cy) {
+    for (int cx = 0; cx < cells; ++cx) {
+      const size_t cell = static_cast<size_t>(cy) * cells + cx;
+      float max_logit = -1e30f;
+      for (int c = 0; c < 65; ++c) max_logit = std::max(max_logit, logits[c * plane + cell]);
+      float sum = 0;
+      float e[65];
+      for (int c = 0; c < 65; ++c) sum += (e[c] = std::exp(logits[c * plane + cell] - max_logit));
+      for (int c = 0; c < 64; ++c) {
+        heat.at<float>(cy * kCell + c / kCell, cx * kCell + c % kCell) = e[c] / sum;
+      }
+    }
+  }
+
+  // 5x5 non-maximum suppression and the detection threshold.
+  cv::Mat local_max;
+  cv::dilate(heat, local_max, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(5, 5)));
+  struct Candidate {
+    float x, y, score;
+  };
+  std::vector<Candidate> candidates;
+  const float threshold = static_cast<float>(config_.xfeat_detection_threshold);
+  for (int y = 0; y < n; ++y) {
+    const float* h = heat.ptr<float>(y);
+    const float* m = local_max.ptr<float>(y);
+    for (int x = 0; x < n; ++x) {
+      if (h[x] > threshold && h[x] >= m[x]) {
+        // Cell coordinates of pixel centre (x, y) with align_corners = false.
+        const float u = (static_cast<float>(x) + 0.5f) / kCell - 0.5f;
+        const float v = (static_cast<float>(y) + 0.5f) / kCell - 0.5f;
+        float r = 0;
+        SampleBilinear(reliability, 1, cells, cells, u, v, &r);
+        candidates.push_back({static_cast<float>(x), static_cast<float>(y), h[x] * r});
+      }
+    }
+  }
+  // Strongest first; ties broken by position so the order never depends on anything else.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  if (static_cast<int>(candidates.size()) > config_.max_keypoints) {
+    candidates.resize(config_.max_keypoints);
+  }
+
+  ImageFeatures out;
+  out.descriptors.resize(static_cast<Eigen::Index>(candidates.size()), descriptor_dim);
+  const float sx = static_cast<float>(bgr.cols) / n, sy = static_cast<float>(bgr.rows) / n;
+  std::vector<float> d(descriptor_dim);
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    const Candidate& c = candidates[i];
+    SampleBilinear(descriptor_map, descriptor_dim, cells, cells, (c.x + 0.5f) / kCell - 0.5f,
+                   (c.y + 0.5f) / kCell - 0.5f, d.data());
+    float norm = 0;
+    for (float value : d) norm += value * value;
+    norm = std::max(std::sqrt(norm), 1e-12f);
+    for (int k = 0; k < descriptor_dim; ++k) {
+      out.descriptors(static_cast<Eigen::Index>(i), k) = d[k] / norm;
+    }
+    // Back to the input image's pixels (pixel centres map to pixel centres).
+    out.keypoints.emplace_back((c.x + 0.5f) * sx - 0.5f, (c.y + 0.5f) * sy - 0.5f);
+    out.scores.push_back(c.score);
+  }
+  return out;
+}
+
+}  // namespace zeroreg

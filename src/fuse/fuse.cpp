@@ -1,0 +1,139 @@
+#include "fuse/fuse.hpp"
+
+#include <open3d/geometry/Image.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/RGBDImage.h>
+#include <open3d/io/PointCloudIO.h>
+#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace fs = std::filesystem;
+namespace {
+
+open3d::geometry::Image ToOpen3dColor(const cv::Mat& bgr) {
+  cv::Mat rgb;
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  open3d::geometry::Image image;
+  image.Prepare(rgb.cols, rgb.rows, 3, 1);
+  for (int y = 0; y < rgb.rows; ++y) {
+    std::memcpy(image.data_.data() + static_cast<size_t>(y) * rgb.cols * 3, rgb.ptr(y),
+                static_cast<size_t>(rgb.cols) * 3);
+  }
+  return image;
+}
+
+open3d::geometry::Image ToOpen3dDepth(const cv::Mat& depth_m) {
+  open3d::geometry::Image image;
+  image.Prepare(depth_m.cols, depth_m.rows, 1, 4);
+  for (int y = 0; y < depth_m.rows; ++y) {
+    std::memcpy(image.data_.data() + static_cast<size_t>(y) * depth_m.cols * 4, depth_m.ptr(y),
+                static_cast<size_t>(depth_m.cols) * 4);
+  }
+  return image;
+}
+
+nlohmann::json FuseKey(const Dataset& dataset, const std::vector<int>& frame_ids,
+                       const FuseConfig& c) {
+  return {{"dataset", fs::absolute(dataset.root()).lexically_normal().string()},
+          {"frames", frame_ids},
+          {"voxel_length_m", c.voxel_length_m},
+          {"sdf_trunc_m", c.sdf_trunc_m},
+          {"max_depth_m", c.max_depth_m},
+          {"output_voxel_m", c.output_voxel_m},
+          {"num_views", c.num_views},
+          {"format_version", 1}};
+}
+
+}  // namespace
+
+std::vector<int> ChooseViewFrames(const std::vector<int>& frame_ids, int num_views) {
+  const int n = static_cast<int>(frame_ids.size());
+  if (n == 0 || num_views <= 0) return {};
+  if (num_views >= n) return frame_ids;
+  if (num_views == 1) return {frame_ids.front()};
+  std::vector<int> chosen;
+  for (int i = 0; i < num_views; ++i) {
+    // Evenly spaced, rounded down: k = 3 over 50 frames gives 0, 24, 49.
+    chosen.push_back(frame_ids[static_cast<size_t>(i) * (n - 1) / (num_views - 1)]);
+  }
+  return chosen;
+}
+
+bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
+                  const FuseConfig& config, const std::string& out_dir,
+                  const std::function<void(int, int)>& progress) {
+  if (frame_ids.empty()) throw MakeInputError("--frames", "no frames to fuse");
+  const nlohmann::json key = FuseKey(dataset, frame_ids, config);
+  const fs::path dir(out_dir), key_path = dir / "fuse.json";
+  if (fs::exists(key_path) && fs::exists(dir / "scan.json") && fs::exists(dir / "cloud.ply")) {
+    std::ifstream in(key_path);
+    nlohmann::json cached = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (cached == key) return false;
+  }
+  fs::create_directories(dir);
+
+  open3d::pipelines::integration::ScalableTSDFVolume volume(
+      config.voxel_length_m, config.sdf_trunc_m,
+      open3d::pipelines::integration::TSDFVolumeColorType::RGB8);
+  const std::vector<int> view_ids = ChooseViewFrames(frame_ids, config.num_views);
+  Transform T_world_fragment = Transform::Identity();
+  ScanDescriptor descriptor;
+  descriptor.name = dir.filename().string();
+  for (size_t k = 0; k < frame_ids.size(); ++k) {
+    const View view = dataset.LoadFrame(frame_ids[k]);
+    if (!view.T_world_camera_gt) {
+      throw MakeInputError(view.name, "has no pose; TSDF fusion needs a pose for every frame");
+    }
+    if (k == 0) T_world_fragment = *view.T_world_camera_gt;
+    const Transform T_fragment_camera = T_world_fragment.inverse() * *view.T_world_camera_gt;
+    const auto rgbd = open3d::geometry::RGBDImage::CreateFromColorAndDepth(
+        ToOpen3dColor(view.color), ToOpen3dDepth(view.depth), /*depth_scale=*/1.0,
+        config.max_depth_m, /*convert_rgb_to_intensity=*/false);
+    const open3d::camera::PinholeCameraIntrinsic intrinsic(view.color.cols, view.color.rows,
+                                                           view.intrinsics.fx, view.intrinsics.fy,
+                                                           view.intrinsics.cx, view.intrinsics.cy);
+    volume.Integrate(*rgbd, intrinsic, T_fragment_camera.inverse());  // extrinsic: fragment->camera
+
+    if (std::find(view_ids.begin(), view_ids.end(), frame_ids[k]) != view_ids.end()) {
+      const std::string stem = "view-" + std::to_string(frame_ids[k]);
+      cv::Mat depth_mm;
+      view.depth.convertTo(depth_mm, CV_16U, 1000.0);
+      cv::imwrite((dir / (stem + ".color.png")).string(), view.color);
+      cv::imwrite((dir / (stem + ".depth.png")).string(), depth_mm);
+      ScanDescriptorView v;
+      v.color = stem + ".color.png";
+      v.depth = stem + ".depth.png";
+      v.intrinsics = view.intrinsics;
+      v.depth_scale = 1000.0;
+      v.T_scan_camera = T_fragment_camera;
+      v.T_world_camera_gt = view.T_world_camera_gt;
+      descriptor.views.push_back(v);
+    }
+    if (progress) progress(static_cast<int>(k) + 1, static_cast<int>(frame_ids.size()));
+  }
+  auto cloud = volume.ExtractPointCloud();
+  if (config.output_voxel_m > 0) cloud = cloud->VoxelDownSample(config.output_voxel_m);
+  if (cloud->points_.empty()) {
+    throw MakeInputError(dataset.root(), "TSDF fusion produced an empty cloud (no valid depth?)");
+  }
+  const fs::path cloud_path = dir / "cloud.ply";
+  if (!open3d::io::WritePointCloud(cloud_path.string(), *cloud)) {
+    throw MakeInputError(cloud_path.string(), "cannot write the fused point cloud");
+  }
+  descriptor.cloud = "cloud.ply";
+  descriptor.T_world_scan_gt = T_world_fragment;
+  WriteScanDescriptor((dir / "scan.json").string(), descriptor);
+  std::ofstream(key_path) << key.dump(2) << "\n";
+  return true;
+}
+
+}  // namespace zeroreg

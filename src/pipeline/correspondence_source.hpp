@@ -1,0 +1,28 @@
+// Where 3D correspondences come from. The pipeline asks one source for correspondences and hands
+// them to the estimator; swapping the source is how the object level (§3.3-3.4) and the paper's
+// "w/o object level" ablation (Table 4 row a: whole-image features) share one pipeline.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "pipeline/stage_timer.hpp"
+#include "zeroreg/types.hpp"
+
+namespace zeroreg {
+
+struct CorrespondenceSet {
+  std::vector<Correspondence> correspondences;
+  int num_keypoints_source = 0;  // keypoints with valid 3D, over all views
+  int num_keypoints_target = 0;
+};
+
+class CorrespondenceSource {
+ public:
+  virtual ~CorrespondenceSource() = default;
+  virtual std::string name() const = 0;  // recorded in RegistrationResult::path
+  virtual CorrespondenceSet Find(const Scan& source, const Scan& target,
+                                 StageTimer& timer) const = 0;
+};
+
+}  // namespace zeroreg
