@@ -1,0 +1,116 @@
+#include "io/text_parsing.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg::detail {
+
+namespace fs = std::filesystem;
+
+void RequireFile(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    throw MakeInputError(path, what + " not found (no such file)");
+  }
+  if (!fs::is_regular_file(path, ec)) {
+    throw MakeInputError(path, what + " is not a regular file");
+  }
+}
+
+bool ParseDouble(const std::string& token, double* value) {
+  if (token.empty()) return false;
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(token.c_str(), &end);
+  if (end != token.c_str() + token.size()) return false;
+  // ERANGE on underflow (denormals, e.g. 1e-320) is harmless; on overflow strtod gives +-HUGE_VAL,
+  // which the callers reject as non-finite.
+  *value = v;
+  return true;
+}
+
+std::vector<double> ReadNumbers(const std::string& path, const std::string& what) {
+  RequireFile(path, what);
+  std::ifstream in(path);
+  if (!in) throw MakeInputError(path, what + " cannot be opened for reading");
+  std::vector<double> numbers;
+  std::string line;
+  int line_number = 0;
+  while (std::getline(in, line)) {
+    ++line_number;
+    std::istringstream tokens(line);
+    std::string token;
+    while (tokens >> token) {
+      double v = 0.0;
+      if (!ParseDouble(token, &v)) {
+        throw MakeInputError(path, "line " + std::to_string(line_number) + ": '" + token +
+                                       "' is not a number (" + what + " must hold only numbers)");
+      }
+      numbers.push_back(v);
+    }
+  }
+  return numbers;
+}
+
+void CheckRigid(const Transform& T, const std::string& where) {
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      if (!std::isfinite(T(r, c))) {
+        throw MakeInputError(where, "non-finite value at row " + std::to_string(r + 1) +
+                                        ", column " + std::to_string(c + 1) +
+                                        "; expected a finite rigid 4x4 transform");
+      }
+    }
+  }
+  const Eigen::RowVector4d expected_last(0, 0, 0, 1);
+  if ((T.row(3) - expected_last).cwiseAbs().maxCoeff() > 1e-6) {
+    std::ostringstream row;
+    row << T.row(3);
+    throw MakeInputError(where, "bad last row (" + row.str() + "); expected 0 0 0 1");
+  }
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  const double orthonormality_error =
+      (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orthonormality_error > 1e-2 || R.determinant() <= 0.0) {
+    std::ostringstream msg;
+    msg << "rotation is not rigid (max |R^T R - I| = " << orthonormality_error
+        << ", det R = " << R.determinant()
+        << "); expected an orthonormal rotation with det +1 (tolerance 1e-2)";
+    throw MakeInputError(where, msg.str());
+  }
+}
+
+Transform RigidFromNumbers(const std::vector<double>& numbers, const std::string& where) {
+  if (numbers.size() != 16) {
+    throw MakeInputError(where, "holds " + std::to_string(numbers.size()) +
+                                    " numbers; expected 16 numbers (a 4x4 row-major transform)");
+  }
+  Transform T;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) T(r, c) = numbers[static_cast<size_t>(4 * r + c)];
+  }
+  CheckRigid(T, where);
+  return T;
+}
+
+void CheckDepthScale(double depth_scale, const std::string& where) {
+  if (!std::isfinite(depth_scale) || depth_scale <= 0.0) {
+    throw MakeInputError(where, "depth_scale " + std::to_string(depth_scale) +
+                                    " is invalid; expected a finite number > 0 (raw units per "
+                                    "metre, e.g. 1000 for millimetres)");
+  }
+}
+
+std::string ResolvePath(const std::string& base_dir, const std::string& path) {
+  const fs::path p(path);
+  if (p.is_absolute() || base_dir.empty()) return path;
+  return (fs::path(base_dir) / p).lexically_normal().string();
+}
+
+}  // namespace zeroreg::detail
