@@ -1,0 +1,156 @@
+// The command line on good and bad input: every bad input exits with code 2 and a message that
+// names the file and the problem; nothing crashes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "test_paths.hpp"
+
+namespace zeroreg {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::RedkitchenDir;
+using testing::RunCli;
+
+// A copy of redkitchen frames 0 and 20 in the 3DMatch layout, to be damaged one way per test.
+class CliBadInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("zeroreg_cli_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    fs::copy_file(RedkitchenDir() + "/camera-intrinsics.txt", dir_ / "camera-intrinsics.txt");
+    for (const char* id : {"000000", "000020"}) {
+      for (const char* ext : {".color.jpg", ".depth.png", ".pose.txt"}) {
+        const std::string name = std::string("frame-") + id + ext;
+        fs::copy_file(RedkitchenDir() + "/frames/" + name, dir_ / name);
+      }
+    }
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  void Write(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name), std::ios::binary) << text;
+  }
+  // Registers frame 20 onto frame 0 of the damaged copy.
+  testing::CommandResult Run(const std::string& extra = "") const {
+    return RunCli("register --source '" + dir_.string() + "@20' --target '" + dir_.string() +
+                  "@0' " + extra);
+  }
+  static void ExpectClearError(const testing::CommandResult& r, const std::string& file,
+                               const std::string& problem) {
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(file), std::string::npos) << "message does not name " << file << ":\n"
+                                                      << r.output;
+    EXPECT_NE(r.output.find(problem), std::string::npos)
+        << "message does not say '" << problem << "':\n"
+        << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(CliBadInput, ControlCaseRegisters) {
+  const auto r = Run("--out '" + Path("result.json") + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(Path("result.json"));
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["result"]["valid"].get<bool>());
+  EXPECT_LT(j["ground_truth"]["rotation_error_deg"].get<double>(), 5.0);
+  EXPECT_LT(j["ground_truth"]["translation_error_cm"].get<double>(), 10.0);
+  EXPECT_TRUE(j["config"].contains("ransac"));
+  EXPECT_TRUE(j["result"]["timings_ms"].contains("total"));
+}
+
+TEST_F(CliBadInput, MissingFile) {
+  fs::remove(Path("frame-000020.depth.png"));
+  ExpectClearError(Run(), "frame-000020.depth.png", "not found");
+}
+
+TEST_F(CliBadInput, MissingScanSpec) {
+  const auto r = RunCli("register --source '" + Path("nope") + "@3' --target '" + Path("") + "@0'");
+  ExpectClearError(r, "nope", "not found");
+}
+
+TEST_F(CliBadInput, ColorDepthSizeMismatch) {
+  cv::Mat small = cv::imread(Path("frame-000020.color.jpg"));
+  cv::resize(small, small, cv::Size(320, 240));
+  cv::imwrite(Path("frame-000020.color.jpg"), small);
+  ExpectClearError(Run(), "frame-000020", "320x240");
+}
+
+TEST_F(CliBadInput, UnreadableImage) {
+  Write("frame-000020.color.jpg", "this is not a JPEG");
+  ExpectClearError(Run(), "frame-000020.color.jpg", "cannot");
+}
+
+TEST_F(CliBadInput, AllInvalidDepth) {
+  cv::imwrite(Path("frame-000020.depth.png"), cv::Mat(480, 640, CV_16U, cv::Scalar(0)));
+  ExpectClearError(Run(), "frame-000020.depth.png", "valid");
+}
+
+TEST_F(CliBadInput, MissingIntrinsics) {
+  fs::remove(Path("camera-intrinsics.txt"));
+  ExpectClearError(Run(), "camera-intrinsics.txt", "not found");
+}
+
+TEST_F(CliBadInput, MalformedIntrinsics) {
+  Write("camera-intrinsics.txt", "585 0 320\n0 585\n");
+  ExpectClearError(Run(), "camera-intrinsics.txt", "5 numbers");
+}
+
+TEST_F(CliBadInput, MalformedPose) {
+  Write("frame-000020.pose.txt", "1 0 0 0\n0 1 0 0\n0 0 1 zero\n0 0 0 1\n");
+  ExpectClearError(Run(), "frame-000020.pose.txt", "zero");
+}
+
+TEST_F(CliBadInput, MissingModelFile) {
+  fs::create_directories(dir_ / "assets");
+  const auto r = Run("--assets '" + Path("assets") + "'");
+  ExpectClearError(r, "xfeat_640x640.onnx", "missing");
+}
+
+TEST_F(CliBadInput, CorruptModelFileFailsItsChecksum) {
+  fs::create_directories(dir_ / "assets" / "xfeat");
+  fs::copy_file(testing::RepoDir() + "/assets/xfeat/xfeat_640x640.onnx",
+                dir_ / "assets" / "xfeat" / "xfeat_640x640.onnx");
+  fs::resize_file(dir_ / "assets" / "xfeat" / "xfeat_640x640.onnx", 1000);  // truncated download
+  const auto r = Run("--assets '" + Path("assets") + "'");
+  ExpectClearError(r, "xfeat_640x640.onnx", "sha256");
+}
+
+TEST_F(CliBadInput, UnknownConfigKey) {
+  Write("config.json", R"({"ransac": {"inlier_treshold_m": 0.05}})");
+  ExpectClearError(Run("--config '" + Path("config.json") + "'"), "config.json",
+                   "unknown key 'inlier_treshold_m'");
+}
+
+TEST(Cli, SameCommandTwiceGivesIdenticalResult) {
+  const std::string args = "register --source '" + RedkitchenDir() + "@20' --target '" +
+                           RedkitchenDir() + "@0' --with-correspondences --out ";
+  const std::string a = (fs::temp_directory_path() / "zeroreg_det_a.json").string();
+  const std::string b = (fs::temp_directory_path() / "zeroreg_det_b.json").string();
+  const auto ra = RunCli(args + a), rb = RunCli(args + b);
+  ASSERT_EQ(ra.exit_code, 0) << ra.output;
+  ASSERT_EQ(rb.exit_code, 0) << rb.output;
+  nlohmann::json ja = nlohmann::json::parse(std::ifstream(a));
+  nlohmann::json jb = nlohmann::json::parse(std::ifstream(b));
+  ja["result"].erase("timings_ms");
+  jb["result"].erase("timings_ms");
+  EXPECT_EQ(ja, jb);
+  fs::remove(a);
+  fs::remove(b);
+}
+
+}  // namespace
+}  // namespace zeroreg
