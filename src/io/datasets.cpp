@@ -65,6 +65,12 @@ double ResolveDepthScale(const DatasetOptions& options, double layout_default) {
       root, "frame id " + std::to_string(frame_id) + " not in the dataset (" + range + ")");
 }
 
+// Frame number from a digit string; -1 if it does not fit an int (such files are ignored).
+int FrameIdFromDigits(const std::string& digits) {
+  if (digits.empty() || digits.size() > 9) return -1;
+  return std::stoi(digits);
+}
+
 bool IsDirectory(const fs::path& p) {
   std::error_code ec;
   return fs::is_directory(p, ec);
@@ -103,7 +109,8 @@ class ThreeDMatchDataset : public Dataset {
       const std::string file = entry.path().filename().string();
       std::smatch m;
       if (!std::regex_match(file, m, ThreeDMatchColorRegex())) continue;
-      const int id = std::stoi(m[1].str());
+      const int id = FrameIdFromDigits(m[1].str());
+      if (id < 0) continue;
       auto it = colors_.find(id);
       // Deterministic choice if both .jpg and .png exist: the lexicographically first name.
       if (it == colors_.end() || file < it->second) colors_[id] = file;
@@ -346,7 +353,8 @@ class ScanNetDataset : public Dataset {
       const fs::path p = entry.path();
       const std::string ext = p.extension().string();
       if (!AllDigits(p.stem().string()) || (ext != ".jpg" && ext != ".png")) continue;
-      const int id = std::stoi(p.stem().string());
+      const int id = FrameIdFromDigits(p.stem().string());
+      if (id < 0) continue;
       auto it = colors_.find(id);
       if (it == colors_.end() || p.filename().string() < it->second)
         colors_[id] = p.filename().string();
@@ -483,7 +491,10 @@ Scan LoadScan(const std::string& spec, const DatasetOptions& options) {
     if (folder.empty()) folder = ".";
     const ThreeDMatchDataset dataset(folder.string(), folder,
                                      ResolveDepthScale(options, kThreeDMatchDepthScale));
-    return ScanFromView(dataset.LoadFrame(std::stoi(m[1].str())));
+    const int id = FrameIdFromDigits(m[1].str());
+    if (id < 0)
+      throw MakeInputError(spec, "frame number too large; expected frame-XXXXXX.color.jpg");
+    return ScanFromView(dataset.LoadFrame(id));
   }
   throw MakeInputError(spec,
                        "unrecognised scan specification; expected DIR@N, PATH.json, DIR with "
