@@ -68,9 +68,12 @@ Runner AddRegisterCommand(CLI::App& app) {
                 result.num_keypoints_source, result.num_keypoints_target,
                 result.num_correspondences, result.num_inliers, result.inlier_ratio,
                 result.inlier_rmse * 1000);
-    std::printf("time:");
-    for (const StageTime& t : result.timings) std::printf(" %s %.0f ms", t.stage.c_str(), t.ms);
-    std::printf("\n");
+    // Timings go to stderr so that stdout is the same for the same input and seed.
+    std::fprintf(stderr, "time:");
+    for (const StageTime& t : result.timings) {
+      std::fprintf(stderr, " %s %.0f ms", t.stage.c_str(), t.ms);
+    }
+    std::fprintf(stderr, "\n");
 
     nlohmann::json out{{"source", o->source},
                        {"target", o->target},
