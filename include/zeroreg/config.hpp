@@ -47,11 +47,31 @@ struct RansacConfig {
   double min_inlier_ratio = 0.05;  // feature-match-recall threshold of the 3DMatch protocol
 };
 
+// Building the objects of a scan from its views' masks (paper §3.2).
+struct ObjectsConfig {
+  // With k >= 2 views, keep only objects seen in at least this many views (paper: 2).
+  int min_views = 2;
+  // Mask pixels are back-projected on a grid with this stride: 4 px keeps ~6% of the pixels,
+  // plenty for a centroid and an overlap test.
+  int pixel_stride = 4;
+  // An observation with fewer 3D points than this is dropped (mask on invalid depth or edges).
+  int min_points = 20;
+  // Two observations in different views are the same object when their labels are compatible and
+  // at least this fraction of the smaller one's voxels is shared (voxel edge below).
+  double association_min_overlap = 0.3;
+  double association_voxel_m = 0.05;
+  // Labels are compatible when equal, or when their semantic cosine is at least this (synonyms).
+  double compatible_label_cosine = 0.9;
+  // Object point sets are thinned to one point per voxel of this edge.
+  double point_voxel_m = 0.02;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
   LiftConfig lift;
   RansacConfig ransac;
+  ObjectsConfig objects;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: --assets, then $ZEROREG_ASSETS, then <repo>/assets
 };
