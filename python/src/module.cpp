@@ -1,0 +1,732 @@
+// The compiled part of the Python module `zeroreg` (imported as zeroreg._zeroreg; the public API
+// and the Scan/View classes are in python/zeroreg/__init__.py, see docs/PYTHON.md).
+//
+// Everything that crosses the boundary is checked here, and every problem is raised as ValueError
+// whose message starts with the offending argument, e.g. "source.views[0].depth: ...": arrays
+// coming from Python are untrusted input just like files (common rule: errors at input
+// boundaries name the argument, what was wrong and what was expected).
+//
+// Conventions at the boundary (documented in docs/PYTHON.md):
+// - colour is RGB (HxWx3 uint8) in Python, BGR in C++ (View::color);
+// - depth is uint16 raw units with depth_scale (raw per metre; 0 and 65535 invalid, as in
+//   ReadDepthImage) or float32 metres (0 invalid);
+// - transforms are 4x4 float64, named T_to_from as in types.hpp.
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <sstream>
+
+#include "zeroreg/error.hpp"
+#include "zeroreg/io.hpp"
+#include "zeroreg/json.hpp"
+#include "zeroreg/register.hpp"
+
+namespace py = pybind11;
+using nlohmann::json;
+
+namespace zeroreg::python {
+namespace {
+
+// ---- Python <-> JSON (config dicts, to_dict) ---------------------------------------------------
+
+json ToJson(const py::handle& obj, const std::string& where) {
+  if (obj.is_none()) return nullptr;
+  // numpy scalars and arrays (np.float64(0.1), np.int64(5), np.array([...])) become plain Python
+  // values first, so that configs built with numpy arithmetic work.
+  const py::module_ numpy = py::module_::import("numpy");
+  if (py::isinstance(obj, numpy.attr("generic")) || py::isinstance<py::array>(obj)) {
+    return ToJson(obj.attr("tolist")(), where);
+  }
+  if (py::isinstance<py::bool_>(obj)) return obj.cast<bool>();  // before int: bool is an int
+  if (py::isinstance<py::int_>(obj)) {
+    try {
+      return obj.cast<std::int64_t>();
+    } catch (const py::cast_error&) {
+    }
+    try {
+      return obj.cast<std::uint64_t>();
+    } catch (const py::cast_error&) {
+    }
+    throw MakeInputError(
+        where, "integer " + py::str(obj).cast<std::string>() + " does not fit in 64 bits");
+  }
+  if (py::isinstance<py::float_>(obj)) return obj.cast<double>();
+  if (py::isinstance<py::str>(obj)) return obj.cast<std::string>();
+  if (py::isinstance<py::dict>(obj)) {
+    json out = json::object();
+    for (const auto& item : obj.cast<py::dict>()) {
+      if (!py::isinstance<py::str>(item.first)) {
+        throw MakeInputError(where, "key " + py::repr(item.first).cast<std::string>() +
+                                        " is not a string; expected string keys");
+      }
+      const std::string key = item.first.cast<std::string>();
+      out[key] = ToJson(item.second, where + "." + key);
+    }
+    return out;
+  }
+  if (py::isinstance<py::list>(obj) || py::isinstance<py::tuple>(obj)) {
+    json out = json::array();
+    size_t i = 0;
+    for (const py::handle& item : obj) {
+      out.push_back(ToJson(item, where + "[" + std::to_string(i++) + "]"));
+    }
+    return out;
+  }
+  throw MakeInputError(where, "cannot use a value of type " +
+                                  py::str(py::type::of(obj).attr("__name__")).cast<std::string>() +
+                                  "; expected None, bool, int, float, str, list or dict");
+}
+
+py::object FromJson(const json& j) {
+  switch (j.type()) {
+    case json::value_t::null:
+      return py::none();
+    case json::value_t::boolean:
+      return py::bool_(j.get<bool>());
+    case json::value_t::number_integer:
+      return py::int_(j.get<std::int64_t>());
+    case json::value_t::number_unsigned:
+      return py::int_(j.get<std::uint64_t>());
+    case json::value_t::number_float:
+      return py::float_(j.get<double>());
+    case json::value_t::string:
+      return py::str(j.get<std::string>());
+    case json::value_t::array: {
+      py::list out;
+      for (const json& item : j) out.append(FromJson(item));
+      return std::move(out);
+    }
+    case json::value_t::object: {
+      py::dict out;
+      for (auto it = j.begin(); it != j.end(); ++it) out[py::str(it.key())] = FromJson(it.value());
+      return std::move(out);
+    }
+    default:
+      return py::none();  // binary / discarded values are never produced by zeroreg
+  }
+}
+
+// config: None (defaults), a dict with the JSON config's keys, or a path to a JSON config file.
+// seed: None (keep the config's) or a non-negative int that overrides config["seed"].
+PipelineConfig ConfigFromPython(const py::object& config, const py::object& seed) {
+  PipelineConfig out;
+  if (config.is_none()) {
+    // defaults
+  } else if (py::isinstance<py::dict>(config)) {
+    ApplyConfigJson(ToJson(config, "config"), "config", &out);
+  } else if (py::isinstance<py::str>(config) ||
+             py::hasattr(config, "__fspath__")) {  // str or os.PathLike: a JSON file
+    out = ReadConfigFile(py::module_::import("os").attr("fspath")(config).cast<std::string>());
+  } else {
+    throw MakeInputError("config", "expected None, a dict or the path of a JSON config file");
+  }
+  if (!seed.is_none()) {
+    if (!py::isinstance<py::int_>(seed) || py::isinstance<py::bool_>(seed)) {
+      throw MakeInputError("seed", "expected a non-negative int or None");
+    }
+    try {
+      out.seed = seed.cast<std::uint64_t>();
+    } catch (const py::cast_error&) {
+      throw MakeInputError(
+          "seed", py::str(seed).cast<std::string>() + " is not a non-negative 64-bit integer");
+    }
+  }
+  return out;
+}
+
+// ---- arrays ------------------------------------------------------------------------------------
+
+std::string ShapeString(const py::array& a) {
+  std::ostringstream s;
+  s << "(";
+  for (py::ssize_t i = 0; i < a.ndim(); ++i) s << (i ? ", " : "") << a.shape(i);
+  s << (a.ndim() == 1 ? ",)" : ")");
+  return s.str();
+}
+
+std::string DtypeName(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+std::string TypeName(const py::handle& obj) {
+  return py::str(py::type::of(obj).attr("__name__")).cast<std::string>();
+}
+
+// The object as a numpy array without any conversion (images must already have the right dtype:
+// silently casting float colour to uint8 would hide a real mistake).
+py::array RequireNdarray(const py::handle& obj, const std::string& where,
+                         const std::string& expected) {
+  if (!py::isinstance<py::array>(obj)) {
+    throw MakeInputError(where, "got " + TypeName(obj) + "; expected a numpy array " + expected);
+  }
+  return py::reinterpret_borrow<py::array>(obj);
+}
+
+// Any array-like of numbers (list of lists, numpy array of any numeric dtype) as float64 with the
+// given shape; rows == -1 accepts any number of rows. Non-finite values are an error.
+py::array_t<double, py::array::c_style> RequireFloatMatrix(const py::handle& obj,
+                                                           const std::string& where,
+                                                           py::ssize_t rows, py::ssize_t cols,
+                                                           const std::string& what) {
+  const std::string expected =
+      (rows < 0 ? "(N, " : "(" + std::to_string(rows) + ", ") + std::to_string(cols) + ")";
+  py::array a;
+  if (py::isinstance<py::array>(obj)) {
+    a = py::reinterpret_borrow<py::array>(obj);
+  } else {
+    try {
+      a = py::module_::import("numpy").attr("asarray")(obj);
+    } catch (const py::error_already_set&) {
+      throw MakeInputError(where, "cannot be read as an array; expected " + what + " " + expected);
+    }
+  }
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u') {
+    throw MakeInputError(where,
+                         "dtype " + DtypeName(a) + "; expected numbers, " + what + " " + expected);
+  }
+  if (a.ndim() != 2 || (rows >= 0 && a.shape(0) != rows) || a.shape(1) != cols) {
+    throw MakeInputError(where, "shape " + ShapeString(a) + "; expected " + what + " " + expected);
+  }
+  auto out = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(a);
+  if (!out) throw MakeInputError(where, "cannot be converted to float64");
+  const double* p = out.data();
+  for (py::ssize_t i = 0; i < out.size(); ++i) {
+    if (!std::isfinite(p[i])) {
+      const py::ssize_t r = i / cols, c = i % cols;
+      throw MakeInputError(where, "element [" + std::to_string(r) + ", " + std::to_string(c) +
+                                      "] is " + (std::isnan(p[i]) ? "NaN" : "infinite") +
+                                      "; expected finite numbers");
+    }
+  }
+  return out;
+}
+
+// A 4x4 rigid transform: last row 0 0 0 1, orthonormal rotation with det +1 (the tolerance of
+// ReadPoseFile, 1e-2, so that a pose read from text and one given as an array are held to the same
+// standard).
+Transform RequireRigid(const py::handle& obj, const std::string& where) {
+  const auto a = RequireFloatMatrix(obj, where, 4, 4, "rigid transform");
+  Transform T;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) T(r, c) = a.at(r, c);
+  }
+  if (std::abs(T(3, 0)) > 1e-9 || std::abs(T(3, 1)) > 1e-9 || std::abs(T(3, 2)) > 1e-9 ||
+      std::abs(T(3, 3) - 1.0) > 1e-9) {
+    std::ostringstream s;
+    s << "last row is [" << T(3, 0) << ", " << T(3, 1) << ", " << T(3, 2) << ", " << T(3, 3)
+      << "]; expected [0, 0, 0, 1] (a rigid 4x4 transform)";
+    throw MakeInputError(where, s.str());
+  }
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  const double orthonormality_error =
+      (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+  if (orthonormality_error > 1e-2 || R.determinant() <= 0.0) {
+    std::ostringstream s;
+    s << "rotation is not rigid (max |R^T R - I| = " << orthonormality_error
+      << ", det R = " << R.determinant()
+      << "); expected an orthonormal rotation with det +1 (tolerance 1e-2)";
+    throw MakeInputError(where, s.str());
+  }
+  return T;
+}
+
+// 3x3 pinhole camera matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]]; Intrinsics has no skew.
+Intrinsics RequireIntrinsics(const py::handle& obj, const std::string& where, int width,
+                             int height) {
+  const auto K = RequireFloatMatrix(obj, where, 3, 3, "camera matrix");
+  if (std::abs(K.at(0, 1)) > 1e-9 || std::abs(K.at(1, 0)) > 1e-9 || std::abs(K.at(2, 0)) > 1e-9 ||
+      std::abs(K.at(2, 1)) > 1e-9 || std::abs(K.at(2, 2) - 1.0) > 1e-9) {
+    throw MakeInputError(where,
+                         "not a pinhole camera matrix; expected [[fx, 0, cx], [0, fy, cy], [0, 0, "
+                         "1]] (no skew)");
+  }
+  Intrinsics k;
+  k.fx = K.at(0, 0);
+  k.fy = K.at(1, 1);
+  k.cx = K.at(0, 2);
+  k.cy = K.at(1, 2);
+  k.width = width;
+  k.height = height;
+  if (!(k.fx > 0 && k.fy > 0)) {
+    std::ostringstream s;
+    s << "focal length fx = " << k.fx << ", fy = " << k.fy
+      << " is invalid; expected fx > 0 and fy > 0 (pixels)";
+    throw MakeInputError(where, s.str());
+  }
+  return k;
+}
+
+// RGB HxWx3 uint8 -> BGR CV_8UC3 (a copy: the View owns its pixels).
+cv::Mat ColorFromPython(const py::handle& obj, const std::string& where) {
+  const std::string expected = "of dtype uint8 with shape (H, W, 3), RGB";
+  const py::array a = RequireNdarray(obj, where, expected);
+  if (a.dtype().kind() != 'u' || a.itemsize() != 1) {
+    throw MakeInputError(where, "dtype " + DtypeName(a) + "; expected " + expected.substr(3));
+  }
+  if (a.ndim() != 3 || a.shape(2) != 3 || a.shape(0) == 0 || a.shape(1) == 0) {
+    throw MakeInputError(where, "shape " + ShapeString(a) + "; expected (H, W, 3) uint8 RGB");
+  }
+  const auto c = py::array_t<std::uint8_t, py::array::c_style>::ensure(a);
+  const cv::Mat rgb(static_cast<int>(c.shape(0)), static_cast<int>(c.shape(1)), CV_8UC3,
+                    const_cast<std::uint8_t*>(c.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  return bgr;
+}
+
+// uint16 raw + depth_scale, or float32 metres -> CV_32FC1 metres, 0 = invalid.
+cv::Mat DepthFromPython(const py::handle& obj, const py::handle& depth_scale_obj,
+                        const std::string& where, const std::string& scale_where,
+                        const std::string& color_shape, int height, int width) {
+  const std::string expected = "of shape (H, W): uint16 with depth_scale, or float32 metres";
+  const py::array a = RequireNdarray(obj, where, expected);
+  const bool is_u16 = a.dtype().kind() == 'u' && a.itemsize() == 2;
+  const bool is_f32 = a.dtype().kind() == 'f' && a.itemsize() == 4;
+  if (!is_u16 && !is_f32) {
+    throw MakeInputError(where, "dtype " + DtypeName(a) +
+                                    "; expected uint16 (with depth_scale) or float32 (metres)");
+  }
+  if (a.ndim() != 2) {
+    throw MakeInputError(where, "shape " + ShapeString(a) + "; expected (H, W)");
+  }
+  if (a.shape(0) != height || a.shape(1) != width) {
+    throw MakeInputError(where,
+                         "shape " + ShapeString(a) + " does not match colour " + color_shape);
+  }
+  cv::Mat metres(height, width, CV_32FC1);
+  if (is_u16) {
+    if (depth_scale_obj.is_none()) {
+      throw MakeInputError(scale_where,
+                           "missing; uint16 depth needs depth_scale (raw units per metre, e.g. "
+                           "1000 for millimetres, 5000 for TUM)");
+    }
+    double scale = 0;
+    try {
+      scale = depth_scale_obj.cast<double>();
+    } catch (const py::cast_error&) {
+      throw MakeInputError(scale_where, "got " + TypeName(depth_scale_obj) +
+                                            "; expected a positive number (raw units per metre)");
+    }
+    if (!std::isfinite(scale) || scale <= 0) {
+      throw MakeInputError(scale_where, "is " + py::str(depth_scale_obj).cast<std::string>() +
+                                            "; expected a positive number (raw units per metre)");
+    }
+    const auto d = py::array_t<std::uint16_t, py::array::c_style>::ensure(a);
+    for (int r = 0; r < height; ++r) {
+      const std::uint16_t* src = d.data() + static_cast<std::ptrdiff_t>(r) * width;
+      float* dst = metres.ptr<float>(r);
+      for (int c = 0; c < width; ++c) {
+        // Same conversion as ReadDepthImage: 0 = no measurement, 65535 = saturated / invalid.
+        dst[c] = (src[c] == 0 || src[c] == 65535) ? 0.0f : static_cast<float>(src[c] / scale);
+      }
+    }
+  } else {
+    if (!depth_scale_obj.is_none()) {
+      throw MakeInputError(scale_where,
+                           "given for float32 depth; float32 depth is already in metres (pass "
+                           "depth_scale only with uint16 depth)");
+    }
+    const auto d = py::array_t<float, py::array::c_style>::ensure(a);
+    for (int r = 0; r < height; ++r) {
+      const float* src = d.data() + static_cast<std::ptrdiff_t>(r) * width;
+      float* dst = metres.ptr<float>(r);
+      for (int c = 0; c < width; ++c) {
+        if (!std::isfinite(src[c]) || src[c] < 0.0f) {
+          std::ostringstream s;
+          s << "value " << src[c] << " at pixel (row " << r << ", col " << c
+            << "); expected finite metres >= 0 (0 = no measurement)";
+          throw MakeInputError(where, s.str());
+        }
+        dst[c] = src[c];
+      }
+    }
+  }
+  if (cv::countNonZero(metres > 0.0f) == 0) {
+    throw MakeInputError(where, "has no valid pixel (all 0 or 65535); expected some depth");
+  }
+  return metres;
+}
+
+// Reads the keys of a dict, remembering which were used, so that a misspelt key ("pose" for
+// "T_scan_camera") is an error rather than silently ignored. None counts as absent.
+class DictReader {
+ public:
+  DictReader(const py::handle& obj, std::string where) : where_(std::move(where)) {
+    if (!py::isinstance<py::dict>(obj)) {
+      throw MakeInputError(where_, "got " + TypeName(obj) + "; expected a dict");
+    }
+    dict_ = py::reinterpret_borrow<py::dict>(obj);
+  }
+  py::object Get(const char* key) {
+    known_.push_back(key);
+    return dict_.contains(key) ? py::object(dict_[key]) : py::object(py::none());
+  }
+  py::object Require(const char* key, const std::string& expected) {
+    py::object value = Get(key);
+    if (value.is_none()) throw MakeInputError(where_ + "." + key, "missing; expected " + expected);
+    return value;
+  }
+  std::string GetString(const char* key, const std::string& fallback) {
+    const py::object value = Get(key);
+    if (value.is_none()) return fallback;
+    if (!py::isinstance<py::str>(value)) {
+      throw MakeInputError(where_ + "." + key, "got " + TypeName(value) + "; expected a str");
+    }
+    return value.cast<std::string>();
+  }
+  void Finish() const {
+    for (const auto& item : dict_) {
+      const std::string key = py::str(item.first).cast<std::string>();
+      if (std::find(known_.begin(), known_.end(), key) == known_.end()) {
+        std::string known;
+        for (const std::string& k : known_) known += (known.empty() ? "" : ", ") + k;
+        throw MakeInputError(where_, "unknown key '" + key + "'; known keys: " + known);
+      }
+    }
+  }
+
+ private:
+  py::dict dict_;
+  std::string where_;
+  std::vector<std::string> known_;
+};
+
+View ViewFromPython(const py::handle& obj, const std::string& where, const std::string& name) {
+  DictReader d(obj, where);
+  View view;
+  view.name = d.GetString("name", name);
+  view.color =
+      ColorFromPython(d.Require("color", "an (H, W, 3) uint8 RGB array"), where + ".color");
+  const std::string color_shape =
+      "(" + std::to_string(view.color.rows) + ", " + std::to_string(view.color.cols) + ")";
+  const py::object depth = d.Require("depth", "an (H, W) uint16 or float32 array");
+  view.depth =
+      DepthFromPython(depth, d.Get("depth_scale"), where + ".depth", where + ".depth_scale",
+                      color_shape, view.color.rows, view.color.cols);
+  view.intrinsics = RequireIntrinsics(d.Require("intrinsics", "a 3x3 camera matrix"),
+                                      where + ".intrinsics", view.color.cols, view.color.rows);
+  const py::object pose = d.Get("T_scan_camera");
+  if (!pose.is_none()) view.T_scan_camera = RequireRigid(pose, where + ".T_scan_camera");
+  const py::object gt = d.Get("T_world_camera_gt");
+  if (!gt.is_none()) view.T_world_camera_gt = RequireRigid(gt, where + ".T_world_camera_gt");
+  d.Finish();
+  return view;
+}
+
+std::vector<Eigen::Vector3d> PointsFromPython(const py::handle& obj, const std::string& where,
+                                              const std::string& what) {
+  const auto a = RequireFloatMatrix(obj, where, -1, 3, what);
+  std::vector<Eigen::Vector3d> out(static_cast<size_t>(a.shape(0)));
+  for (py::ssize_t i = 0; i < a.shape(0); ++i) out[i] = {a.at(i, 0), a.at(i, 1), a.at(i, 2)};
+  return out;
+}
+
+// A scan given as a dict (python/zeroreg/__init__.py turns zeroreg.Scan / zeroreg.View objects
+// into dicts before calling in) or as a path specification for LoadScan.
+Scan ScanFromPython(const py::handle& obj, const std::string& where) {
+  if (py::isinstance<py::str>(obj)) return LoadScan(obj.cast<std::string>());
+  DictReader d(obj, where);
+  Scan scan;
+  scan.name = d.GetString("name", where);
+  const py::object views = d.Require("views", "a list of views");
+  if (!py::isinstance<py::list>(views) && !py::isinstance<py::tuple>(views)) {
+    throw MakeInputError(where + ".views",
+                         "got " + TypeName(views) + "; expected a list of views (dicts)");
+  }
+  size_t i = 0;
+  for (const py::handle& v : views) {
+    const std::string view_where = where + ".views[" + std::to_string(i) + "]";
+    scan.views.push_back(ViewFromPython(v, view_where, "view " + std::to_string(i)));
+    ++i;
+  }
+  if (scan.views.empty()) {
+    throw MakeInputError(where + ".views", "is empty; expected at least one view");
+  }
+  const py::object points = d.Get("points");
+  if (!points.is_none()) {
+    scan.points = PointsFromPython(points, where + ".points", "points in metres");
+  }
+  const py::object colors = d.Get("colors");
+  if (!colors.is_none()) {
+    scan.colors = PointsFromPython(colors, where + ".colors", "RGB colours in [0, 1]");
+    if (scan.colors.size() != scan.points.size()) {
+      throw MakeInputError(where + ".colors", std::to_string(scan.colors.size()) + " colours for " +
+                                                  std::to_string(scan.points.size()) +
+                                                  " points; expected one colour per point");
+    }
+    for (const Eigen::Vector3d& c : scan.colors) {
+      if (c.minCoeff() < 0 || c.maxCoeff() > 1) {
+        throw MakeInputError(where + ".colors", "value outside [0, 1]; expected RGB in [0, 1]");
+      }
+    }
+  }
+  const py::object gt = d.Get("T_world_scan_gt");
+  if (!gt.is_none()) scan.T_world_scan_gt = RequireRigid(gt, where + ".T_world_scan_gt");
+  d.Finish();
+  return scan;
+}
+
+// ---- C++ -> numpy --------------------------------------------------------------------------
+
+py::array_t<double> MatrixToNumpy(const Eigen::MatrixXd& m) {
+  py::array_t<double> out({m.rows(), m.cols()});
+  auto w = out.mutable_unchecked<2>();
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    for (Eigen::Index c = 0; c < m.cols(); ++c) w(r, c) = m(r, c);
+  }
+  return out;
+}
+
+py::object OptionalTransform(const std::optional<Transform>& T) {
+  return T ? py::object(MatrixToNumpy(*T)) : py::object(py::none());
+}
+
+py::array_t<double> PointsToNumpy(const std::vector<Eigen::Vector3d>& points) {
+  py::array_t<double> out({static_cast<py::ssize_t>(points.size()), py::ssize_t{3}});
+  auto w = out.mutable_unchecked<2>();
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (int k = 0; k < 3; ++k) w(i, k) = points[i][k];
+  }
+  return out;
+}
+
+py::array_t<std::uint8_t> ColorToNumpy(const cv::Mat& bgr) {
+  py::array_t<std::uint8_t> out({bgr.rows, bgr.cols, 3});
+  cv::Mat rgb(bgr.rows, bgr.cols, CV_8UC3, out.mutable_data());
+  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+  return out;
+}
+
+py::array_t<float> DepthToNumpy(const cv::Mat& depth) {
+  py::array_t<float> out({depth.rows, depth.cols});
+  cv::Mat view(depth.rows, depth.cols, CV_32FC1, out.mutable_data());
+  depth.copyTo(view);
+  return out;
+}
+
+py::dict ViewToPython(const View& v) {
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  K(0, 0) = v.intrinsics.fx;
+  K(1, 1) = v.intrinsics.fy;
+  K(0, 2) = v.intrinsics.cx;
+  K(1, 2) = v.intrinsics.cy;
+  py::dict d;
+  d["name"] = v.name;
+  d["color"] = ColorToNumpy(v.color);
+  d["depth"] = DepthToNumpy(v.depth);
+  d["intrinsics"] = MatrixToNumpy(K);
+  d["T_scan_camera"] = MatrixToNumpy(v.T_scan_camera);
+  d["T_world_camera_gt"] = OptionalTransform(v.T_world_camera_gt);
+  return d;
+}
+
+py::dict ScanToPython(const Scan& scan) {
+  py::list views;
+  for (const View& v : scan.views) views.append(ViewToPython(v));
+  py::dict d;
+  d["name"] = scan.name;
+  d["views"] = views;
+  d["points"] = scan.points.empty() ? py::object(py::none()) : PointsToNumpy(scan.points);
+  d["colors"] = scan.colors.empty() ? py::object(py::none()) : PointsToNumpy(scan.colors);
+  d["T_world_scan_gt"] = OptionalTransform(scan.T_world_scan_gt);
+  return d;
+}
+
+// Result arrays, one row per correspondence (all parallel to RegistrationResult::correspondences).
+template <typename T, typename Fill>
+py::array_t<T> CorrespondenceColumn(const RegistrationResult& r, py::ssize_t cols, Fill fill) {
+  const auto n = static_cast<py::ssize_t>(r.correspondences.size());
+  py::array_t<T> out = cols > 0 ? py::array_t<T>({n, cols}) : py::array_t<T>(n);
+  T* p = out.mutable_data();
+  for (py::ssize_t i = 0; i < n; ++i)
+    fill(r.correspondences[i], p + i * std::max<py::ssize_t>(cols, 1));
+  return out;
+}
+
+py::dict Counts(const RegistrationResult& r) {
+  py::dict d;
+  d["keypoints_source"] = r.num_keypoints_source;
+  d["keypoints_target"] = r.num_keypoints_target;
+  d["correspondences"] = r.num_correspondences;
+  d["inliers"] = r.num_inliers;
+  d["ransac_iterations"] = r.ransac_iterations;
+  return d;
+}
+
+std::string Repr(const RegistrationResult& r) {
+  std::ostringstream s;
+  s << "<zeroreg.Result " << (r.valid ? "valid" : "FAILED") << " path=" << r.path
+    << " inliers=" << r.num_inliers << "/" << r.num_correspondences << " reason='" << r.reason
+    << "'>";
+  return s.str();
+}
+
+// Pipeline::Register with the scans converted first (they need the GIL), then run without it.
+RegistrationResult RegisterWith(const Pipeline& pipeline, const py::handle& source,
+                                const py::handle& target) {
+  const Scan s = ScanFromPython(source, "source");
+  const Scan t = ScanFromPython(target, "target");
+  py::gil_scoped_release release;
+  return pipeline.Register(s, t);
+}
+
+void BindResult(py::module_& m) {
+  py::class_<RegistrationResult>(m, "Result",
+                                 "Result of one registration (RegistrationResult in C++).")
+      .def_property_readonly(
+          "T_target_source",
+          [](const RegistrationResult& r) { return MatrixToNumpy(r.T_target_source); },
+          "4x4 float64 rigid transform mapping source-frame points into the target frame.")
+      .def_readonly("valid", &RegistrationResult::valid,
+                    "False when the registration failed (see reason); never a silent identity.")
+      .def_readonly("reason", &RegistrationResult::reason)
+      .def_readonly("path", &RegistrationResult::path,
+                    "Which correspondence source produced the transform, e.g. 'image'.")
+      .def_property_readonly("counts", &Counts,
+                             "keypoints_source/target, correspondences, inliers, "
+                             "ransac_iterations.")
+      .def_readonly("inlier_ratio", &RegistrationResult::inlier_ratio)
+      .def_readonly("inlier_rmse", &RegistrationResult::inlier_rmse, "Metres, over the inliers.")
+      .def_property_readonly(
+          "source_points",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<double>(r, 3, [](const Correspondence& c, double* p) {
+              for (int k = 0; k < 3; ++k) p[k] = c.source[k];
+            });
+          },
+          "(N, 3) float64, correspondences in the source scan frame, metres.")
+      .def_property_readonly(
+          "target_points",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<double>(r, 3, [](const Correspondence& c, double* p) {
+              for (int k = 0; k < 3; ++k) p[k] = c.target[k];
+            });
+          },
+          "(N, 3) float64, correspondences in the target scan frame, metres.")
+      .def_property_readonly(
+          "source_pixels",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<float>(r, 2, [](const Correspondence& c, float* p) {
+              p[0] = c.source_pixel.x();
+              p[1] = c.source_pixel.y();
+            });
+          },
+          "(N, 2) float32 (x, y) pixel in the source view the correspondence came from.")
+      .def_property_readonly(
+          "target_pixels",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<float>(r, 2, [](const Correspondence& c, float* p) {
+              p[0] = c.target_pixel.x();
+              p[1] = c.target_pixel.y();
+            });
+          },
+          "(N, 2) float32 (x, y) pixel in the target view.")
+      .def_property_readonly(
+          "correspondence_views",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<std::int32_t>(
+                r, 0, [](const Correspondence& c, std::int32_t* p) { p[0] = c.view; });
+          },
+          "(N,) int32, index of the view pair each correspondence came from.")
+      .def_property_readonly(
+          "scores",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<float>(
+                r, 0, [](const Correspondence& c, float* p) { p[0] = c.score; });
+          },
+          "(N,) float32 matcher confidence.")
+      .def_property_readonly(
+          "is_inlier",
+          [](const RegistrationResult& r) {
+            py::array_t<bool> out(static_cast<py::ssize_t>(r.correspondences.size()));
+            bool* p = out.mutable_data();
+            for (size_t i = 0; i < r.correspondences.size(); ++i) {
+              p[i] = i < r.is_inlier.size() && r.is_inlier[i];
+            }
+            return out;
+          },
+          "(N,) bool, RANSAC inlier mask under T_target_source.")
+      .def_property_readonly(
+          "timings",
+          [](const RegistrationResult& r) {
+            py::dict d;  // insertion order = pipeline order, "total" last
+            for (const StageTime& t : r.timings) d[py::str(t.stage)] = t.ms;
+            return d;
+          },
+          "Wall time per stage in milliseconds, in pipeline order, 'total' last.")
+      .def(
+          "to_dict",
+          [](const RegistrationResult& r, bool correspondences) {
+            return FromJson(ResultToJson(r, correspondences));
+          },
+          py::arg("correspondences") = false,
+          "The result as the CLI writes it under \"result\" (zeroreg::ResultToJson): every field "
+          "of the C++ result, including any added later.")
+      .def("__repr__", &Repr);
+}
+
+}  // namespace
+}  // namespace zeroreg::python
+
+PYBIND11_MODULE(_zeroreg, m) {
+  using namespace zeroreg;          // NOLINT: the module body names many zeroreg types
+  using namespace zeroreg::python;  // NOLINT
+  m.doc() = "Compiled core of zeroreg; use the package `zeroreg` (docs/PYTHON.md).";
+
+  // Bad input from C++ (files, configs, scans) is a ValueError in Python, like bad arrays.
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const InputError& e) {
+      PyErr_SetString(PyExc_ValueError, e.what());
+    }
+  });
+
+  BindResult(m);
+
+  py::class_<Pipeline>(m, "Pipeline")
+      .def(py::init([](const py::object& config, const py::object& seed) {
+             return std::make_unique<Pipeline>(ConfigFromPython(config, seed));
+           }),
+           py::arg("config") = py::none(), py::arg("seed") = py::none())
+      .def("register", &RegisterWith, py::arg("source"), py::arg("target"))
+      .def_property_readonly("config",
+                             [](const Pipeline& p) { return FromJson(ConfigToJson(p.config())); });
+
+  m.def(
+      "load_scan",
+      [](const std::string& spec, double depth_scale) {
+        DatasetOptions options;
+        options.depth_scale = depth_scale;
+        return ScanToPython(LoadScan(spec, options));
+      },
+      py::arg("spec"), py::arg("depth_scale") = 0.0);
+
+  m.def(
+      "read_color", [](const std::string& path) { return ColorToNumpy(ReadColorImage(path)); },
+      py::arg("path"));
+
+  m.def(
+      "read_depth",
+      [](const std::string& path) {
+        const cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+        if (raw.empty()) {
+          throw MakeInputError(path, "cannot be read or decoded; expected a 16-bit PNG");
+        }
+        if (raw.type() != CV_16UC1) {
+          throw MakeInputError(path, "not a 16-bit single-channel image; expected a 16-bit PNG");
+        }
+        py::array_t<std::uint16_t> out({raw.rows, raw.cols});
+        cv::Mat view(raw.rows, raw.cols, CV_16UC1, out.mutable_data());
+        raw.copyTo(view);
+        return out;
+      },
+      py::arg("path"));
+
+  m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
+}

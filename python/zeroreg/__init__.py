@@ -1,0 +1,142 @@
+"""zeroreg: register two RGB-D scans (ZeroReg, CVPR 2025) from Python.
+
+    import zeroreg
+    r = zeroreg.register("../shared/data/7scenes-redkitchen@20",
+                         "../shared/data/7scenes-redkitchen@0")
+    if r.valid:
+        print(r.T_target_source)      # 4x4 numpy float64, maps source points into the target frame
+
+A scan is a path specification (anything the CLI accepts: "DIR@N", a scan.json or its folder, a
+3DMatch frame-XXXXXX.color.{jpg,png}), a `Scan`, or a dict with the same fields as `Scan` and
+`View`. Arrays follow Python conventions: colour is RGB. All bad input raises ValueError whose
+message starts with the offending argument, e.g. "source.views[0].depth: ...". See docs/PYTHON.md.
+"""
+
+import dataclasses
+import os
+from dataclasses import dataclass, field
+from typing import Any, List, Optional, Union
+
+import numpy as np
+
+from . import _zeroreg
+from ._zeroreg import Result, default_config, read_color, read_depth
+
+__all__ = [
+    "Pipeline",
+    "Result",
+    "Scan",
+    "View",
+    "default_config",
+    "load_scan",
+    "read_color",
+    "read_depth",
+    "register",
+]
+
+
+@dataclass
+class View:
+    """One posed RGB-D image.
+
+    color: (H, W, 3) uint8, RGB order.
+    depth: (H, W) uint16 raw sensor units together with depth_scale (raw units per metre: 1000
+        for millimetres, 5000 for TUM; 0 and 65535 mean "no measurement"), or (H, W) float32
+        metres with depth_scale None (0 means "no measurement"; NaN is an error).
+    intrinsics: 3x3 camera matrix [[fx, 0, cx], [0, fy, cy], [0, 0, 1]] in pixels.
+    T_scan_camera: 4x4 rigid transform camera -> scan frame (identity for a single frame).
+    T_world_camera_gt: optional ground-truth camera -> world, used only for evaluation.
+    """
+
+    color: np.ndarray
+    depth: np.ndarray
+    intrinsics: Any
+    T_scan_camera: Any = field(default_factory=lambda: np.eye(4))
+    depth_scale: Optional[float] = None
+    name: str = ""
+    T_world_camera_gt: Any = None
+
+
+@dataclass
+class Scan:
+    """What is registered: one or more posed views plus an optional point cloud.
+
+    points: optional (N, 3) float array in the scan frame, metres.
+    colors: optional (N, 3) float RGB in [0, 1], one per point.
+    T_world_scan_gt: optional ground-truth scan -> world, used only for evaluation.
+    """
+
+    views: List[View]
+    points: Any = None
+    colors: Any = None
+    name: str = ""
+    T_world_scan_gt: Any = None
+
+
+ScanLike = Union[str, "os.PathLike[str]", Scan, dict]
+
+
+def _native(scan: Any, where: str) -> Union[str, dict]:
+    """A scan as the compiled module takes it: a path string or a dict of dicts."""
+    if isinstance(scan, (str, os.PathLike)):
+        return os.fspath(scan)
+    if isinstance(scan, Scan):
+        scan = {f.name: getattr(scan, f.name) for f in dataclasses.fields(scan)}
+    if not isinstance(scan, dict):
+        raise ValueError(
+            f"{where}: got {type(scan).__name__}; expected a path string, a zeroreg.Scan "
+            "or a dict with 'views'"
+        )
+    views = scan.get("views")
+    if isinstance(views, (list, tuple)):
+        scan = dict(scan)
+        scan["views"] = [
+            {f.name: getattr(v, f.name) for f in dataclasses.fields(v)} if isinstance(v, View) else v
+            for v in views
+        ]
+    return scan
+
+
+def load_scan(spec: Union[str, "os.PathLike[str]"], depth_scale: Optional[float] = None) -> Scan:
+    """Loads a scan from disk like the CLI does and returns it as arrays.
+
+    spec: "DIR@N" (frame N of a 3DMatch / TUM / ScanNet folder), a scan.json or its folder, or a
+        3DMatch frame-XXXXXX.color.{jpg,png}.
+    depth_scale: raw depth units per metre; None = the layout's default (1000, TUM 5000).
+    The returned views hold RGB colour and float32 depth in metres (depth_scale None).
+    """
+    d = _zeroreg.load_scan(os.fspath(spec), 0.0 if depth_scale is None else float(depth_scale))
+    d["views"] = [View(**v) for v in d["views"]]
+    return Scan(**d)
+
+
+class Pipeline:
+    """Loads the models once; call register() for each pair.
+
+    config: None (defaults), a dict with the keys of the JSON config (docs/CONFIG.md, e.g.
+        {"features": {"backend": "sift"}, "ransac": {"inlier_threshold_m": 0.05}}), or the path
+        of a JSON config file. Unknown keys raise ValueError.
+    seed: overrides config["seed"] when not None.
+    """
+
+    def __init__(self, config: Union[None, dict, str] = None, seed: Optional[int] = None):
+        self._impl = _zeroreg.Pipeline(config, seed)
+
+    @property
+    def config(self) -> dict:
+        """The effective config, as the JSON config dict."""
+        return self._impl.config
+
+    def register(self, source: ScanLike, target: ScanLike) -> Result:
+        """Registers source to target; the result's T_target_source maps source into target."""
+        return self._impl.register(_native(source, "source"), _native(target, "target"))
+
+
+def register(
+    source: ScanLike,
+    target: ScanLike,
+    config: Union[None, dict, str] = None,
+    seed: Optional[int] = None,
+) -> Result:
+    """One-call registration: Pipeline(config, seed).register(source, target)."""
+    return Pipeline(config, seed).register(source, target)
