@@ -49,7 +49,7 @@ TEST(FitRigidTransform, RecoversExactTransform) {
   Transform estimate;
   ASSERT_TRUE(FitRigidTransform(s, t, {}, &estimate));
   EXPECT_LT((estimate - T).cwiseAbs().maxCoeff(), 1e-9);
-  EXPECT_NEAR(estimate.topLeftCorner<3, 3>().determinant(), 1.0, 1e-12);
+  EXPECT_NEAR((estimate.topLeftCorner<3, 3>().determinant()), 1.0, 1e-12);
 }
 
 TEST(FitRigidTransform, RejectsCollinearAndTooFewPoints) {

@@ -26,7 +26,7 @@ TEST(Metrics, NonOrthonormalGroundTruthGivesZeroErrorForItsNearestRotation) {
   gt.topLeftCorner<3, 3>() *= 0.9998;  // like the 3DMatch files: det slightly below 1
   Transform est = Transform::Identity();
   est.topLeftCorner<3, 3>() = Orthonormalize(gt.topLeftCorner<3, 3>());
-  EXPECT_LT(RotationErrorDeg(est, gt), 1e-6);
+  EXPECT_LT(RotationErrorDeg(est, gt), 1e-3);  // acos near 1 resolves ~1e-6 deg
 }
 
 TEST(Metrics, RegistrationRecallErrorMatchesHandComputedValue) {

@@ -1,0 +1,132 @@
+#include "point_match/sinkhorn.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+Eigen::MatrixXd RandomUnitRows(int n, int d, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  Eigen::MatrixXd g(n, d);
+  for (int i = 0; i < n; ++i) {
+    for (int k = 0; k < d; ++k) g(i, k) = static_cast<double>(rng() >> 11) * 0x1.0p-53 - 0.5;
+    g.row(i).normalize();
+  }
+  return g;
+}
+
+bool NoNanOrPositiveInf(const Eigen::MatrixXd& m) {
+  return !m.hasNaN() && (m.array() < std::numeric_limits<double>::infinity()).all();
+}
+
+TEST(Sinkhorn, MarginalsConvergeToSuperGlueTargets) {
+  const int n = 7, m = 5;
+  const Eigen::MatrixXd gp = RandomUnitRows(n, 8, 1), gq = RandomUnitRows(m, 8, 2);
+  SinkhornConfig cfg;
+  cfg.iterations = 2000;
+  const Eigen::MatrixXd p = SinkhornLogAssignment(gp * gq.transpose(), cfg).array().exp();
+  const Eigen::VectorXd rows = p.rowwise().sum();
+  const Eigen::RowVectorXd cols = p.colwise().sum();
+  for (int i = 0; i < n; ++i) EXPECT_NEAR(rows(i), 1.0, 1e-6);
+  EXPECT_NEAR(rows(n), m, 1e-6);  // the source dustbin row can absorb every target point
+  for (int k = 0; k < m; ++k) EXPECT_NEAR(cols(k), 1.0, 1e-9);
+  EXPECT_NEAR(cols(m), n, 1e-9);  // the target dustbin column can absorb every source point
+}
+
+TEST(Sinkhorn, OrthogonalDescriptorGoesToTheDustbin) {
+  // Sources 0-2 equal targets 0-2; source 3 is orthogonal to every target.
+  const Eigen::MatrixXd gp = Eigen::MatrixXd::Identity(4, 4);
+  const Eigen::MatrixXd gq = Eigen::MatrixXd::Identity(3, 4);
+  Eigen::MatrixXd log_p;
+  const std::vector<SinkhornMatch> matches = MatchSinkhorn(gp, gq, {}, &log_p);
+  ASSERT_EQ(log_p.rows(), 5);
+  ASSERT_EQ(log_p.cols(), 4);
+  ASSERT_EQ(matches.size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(matches[i].source, i);
+    EXPECT_EQ(matches[i].target, i);
+    EXPECT_GT(matches[i].probability, 0.9);
+  }
+  EXPECT_GT(std::exp(log_p(3, 3)), 0.9);  // source 3's mass is in the dustbin column
+}
+
+TEST(Sinkhorn, IdenticalDescriptorSetsGiveTheIdentity) {
+  const Eigen::MatrixXd g = RandomUnitRows(40, 32, 3);
+  const std::vector<SinkhornMatch> matches = MatchSinkhorn(g, g);
+  ASSERT_EQ(matches.size(), 40u);
+  for (int i = 0; i < 40; ++i) {
+    EXPECT_EQ(matches[i].source, i);
+    EXPECT_EQ(matches[i].target, i);
+  }
+}
+
+TEST(Sinkhorn, StableWithHugeScores) {
+  // Scores scaled by 1e4 (logits up to 1e5 at temperature 0.1): exp would overflow without LSE.
+  const Eigen::MatrixXd g = RandomUnitRows(30, 16, 4) * 100.0;
+  Eigen::MatrixXd log_p;
+  const std::vector<SinkhornMatch> matches = MatchSinkhorn(g, g, {}, &log_p);
+  EXPECT_TRUE(NoNanOrPositiveInf(log_p));
+  ASSERT_EQ(matches.size(), 30u);
+  for (int i = 0; i < 30; ++i) {
+    EXPECT_EQ(matches[i].target, i);
+    EXPECT_NEAR(matches[i].probability, 1.0, 1e-9);
+  }
+  const Eigen::MatrixXd negative = SinkhornLogAssignment(-1e4 * Eigen::MatrixXd::Ones(5, 6));
+  EXPECT_TRUE(NoNanOrPositiveInf(negative));
+  EXPECT_TRUE(ExtractSinkhornMatches(negative).empty());  // everything goes to the dustbins
+}
+
+TEST(Sinkhorn, EmptyInputsGiveNoMatches) {
+  const Eigen::MatrixXd g = RandomUnitRows(4, 8, 5);
+  Eigen::MatrixXd log_p;
+  EXPECT_TRUE(MatchSinkhorn(Eigen::MatrixXd(0, 8), g, {}, &log_p).empty());
+  EXPECT_EQ(log_p.rows(), 1);
+  EXPECT_EQ(log_p.cols(), 5);
+  EXPECT_FALSE(log_p.hasNaN());
+  EXPECT_TRUE(MatchSinkhorn(g, Eigen::MatrixXd(0, 3), {}, &log_p).empty());
+  EXPECT_EQ(log_p.rows(), 5);
+  EXPECT_EQ(log_p.cols(), 1);
+  EXPECT_FALSE(log_p.hasNaN());
+  EXPECT_TRUE(MatchSinkhorn(Eigen::MatrixXd(0, 8), Eigen::MatrixXd(0, 8)).empty());
+}
+
+TEST(Sinkhorn, MutualCheckKeepsOneOfTwoCompetingSources) {
+  // Sources 0 and 1 are the same descriptor, equal to target 0: they must share its unit mass.
+  Eigen::MatrixXd gp = Eigen::MatrixXd::Zero(3, 3), gq = Eigen::MatrixXd::Zero(2, 3);
+  gp(0, 0) = gp(1, 0) = 1.0;
+  gp(2, 1) = 1.0;
+  gq(0, 0) = 1.0;
+  gq(1, 1) = 1.0;
+  SinkhornConfig cfg;
+  const std::vector<SinkhornMatch> mutual = MatchSinkhorn(gp, gq, cfg);
+  ASSERT_EQ(mutual.size(), 2u);
+  EXPECT_EQ(mutual[0].source, 0);  // first on ties
+  EXPECT_EQ(mutual[1].source, 2);
+  EXPECT_NEAR(mutual[0].probability, 0.5, 0.05);
+  cfg.mutual = false;
+  EXPECT_EQ(MatchSinkhorn(gp, gq, cfg).size(), 3u);
+  cfg.min_probability = 0.6;
+  EXPECT_EQ(MatchSinkhorn(gp, gq, cfg).size(), 1u);
+}
+
+TEST(Sinkhorn, RejectsBadInput) {
+  const Eigen::MatrixXd g = RandomUnitRows(3, 4, 6);
+  EXPECT_THROW(MatchSinkhorn(g, RandomUnitRows(3, 5, 7)), InputError);
+  SinkhornConfig cfg;
+  cfg.temperature = 0.0;
+  EXPECT_THROW(MatchSinkhorn(g, g, cfg), InputError);
+  Eigen::MatrixXd bad = g;
+  bad(1, 1) = std::nan("");
+  EXPECT_THROW(MatchSinkhorn(bad, g), InputError);
+  // The float overload used with float descriptors gives the same matches.
+  EXPECT_EQ(
+      MatchSinkhorn(Eigen::MatrixXf(g.cast<float>()), Eigen::MatrixXf(g.cast<float>())).size(), 3u);
+}
+
+}  // namespace
+}  // namespace zeroreg
