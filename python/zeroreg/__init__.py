@@ -76,12 +76,17 @@ class Scan:
 ScanLike = Union[str, "os.PathLike[str]", Scan, dict]
 
 
+def _fields(obj: Any) -> dict:
+    """A dataclass as a shallow dict (dataclasses.asdict would deep-copy the arrays)."""
+    return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+
+
 def _native(scan: Any, where: str) -> Union[str, dict]:
     """A scan as the compiled module takes it: a path string or a dict of dicts."""
     if isinstance(scan, (str, os.PathLike)):
         return os.fspath(scan)
     if isinstance(scan, Scan):
-        scan = {f.name: getattr(scan, f.name) for f in dataclasses.fields(scan)}
+        scan = _fields(scan)
     if not isinstance(scan, dict):
         raise ValueError(
             f"{where}: got {type(scan).__name__}; expected a path string, a zeroreg.Scan "
@@ -90,10 +95,7 @@ def _native(scan: Any, where: str) -> Union[str, dict]:
     views = scan.get("views")
     if isinstance(views, (list, tuple)):
         scan = dict(scan)
-        scan["views"] = [
-            {f.name: getattr(v, f.name) for f in dataclasses.fields(v)} if isinstance(v, View) else v
-            for v in views
-        ]
+        scan["views"] = [_fields(v) if isinstance(v, View) else v for v in views]
     return scan
 
 

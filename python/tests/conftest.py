@@ -1,0 +1,72 @@
+"""Makes the built module importable and provides the real frames the tests use.
+
+The module is looked up in $ZEROREG_PYTHONPATH when set, else in <repo>/build/python (where
+`bash scripts/setup.sh` builds it). Data: ../shared/data/7scenes-redkitchen (see its MANIFEST.md):
+640x480 frames, depth in millimetres, camera-to-world poses.
+"""
+
+import os
+import sys
+
+import numpy as np
+import pytest
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.environ.get("ZEROREG_PYTHONPATH") or os.path.join(REPO, "build", "python"))
+
+import zeroreg  # noqa: E402  (needs the path above)
+
+KITCHEN = os.path.join(REPO, "..", "shared", "data", "7scenes-redkitchen")
+
+
+def frame_spec(n):
+    return f"{KITCHEN}@{n}"
+
+
+def frame_file(n, suffix):
+    return os.path.join(KITCHEN, "frames", f"frame-{n:06d}.{suffix}")
+
+
+def frame_pose(n):
+    """Ground-truth camera -> world of frame n."""
+    return np.loadtxt(frame_file(n, "pose.txt"))
+
+
+def frame_view_dict(n, T_scan_camera=None):
+    """Frame n as a view dict built from the files: RGB uint8, raw uint16 depth with scale."""
+    view = {
+        "color": zeroreg.read_color(frame_file(n, "color.jpg")),
+        "depth": zeroreg.read_depth(frame_file(n, "depth.png")),
+        "depth_scale": 1000.0,
+        "intrinsics": np.loadtxt(os.path.join(KITCHEN, "camera-intrinsics.txt")),
+        "name": f"frame {n}",
+    }
+    if T_scan_camera is not None:
+        view["T_scan_camera"] = T_scan_camera
+    return view
+
+
+def rotation_error_deg(T, T_gt):
+    R = T[:3, :3].T @ T_gt[:3, :3]
+    return np.degrees(np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1)))
+
+
+def translation_error_m(T, T_gt):
+    return np.linalg.norm(T[:3, 3] - T_gt[:3, 3])
+
+
+@pytest.fixture(scope="session")
+def pipeline():
+    """Default pipeline (XFeat), models loaded once for all tests."""
+    return zeroreg.Pipeline()
+
+
+@pytest.fixture(scope="session")
+def gt_20_0():
+    """Ground-truth T_target_source for source frame 20, target frame 0."""
+    return np.linalg.inv(frame_pose(0)) @ frame_pose(20)
+
+
+@pytest.fixture(scope="session")
+def result_20_0_from_paths(pipeline):
+    return pipeline.register(frame_spec(20), frame_spec(0))

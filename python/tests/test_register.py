@@ -1,0 +1,179 @@
+"""Registration through the Python module on real 7-Scenes redkitchen frames, 20 -> 0.
+
+Ground truth: T_target_source = inv(P_0) @ P_20 from the dataset's camera-to-world poses. The
+tolerance (5 deg, 10 cm) is the ScanNet-style success criterion; the CLI measures 0.3 deg / 0.6 cm
+on this pair, so a wrong convention (RGB/BGR swap, transposed pose, wrong depth scale) fails it.
+"""
+
+import json
+
+import numpy as np
+import pytest
+import zeroreg
+from conftest import (
+    frame_pose,
+    frame_spec,
+    frame_view_dict,
+    rotation_error_deg,
+    translation_error_m,
+)
+
+
+def assert_close_to_gt(result, T_gt):
+    assert result.valid, result.reason
+    T = result.T_target_source
+    assert T.shape == (4, 4) and T.dtype == np.float64
+    assert rotation_error_deg(T, T_gt) < 5.0
+    assert translation_error_m(T, T_gt) < 0.10
+
+
+def test_paths_land_on_ground_truth(result_20_0_from_paths, gt_20_0):
+    assert_close_to_gt(result_20_0_from_paths, gt_20_0)
+    assert result_20_0_from_paths.path == "image"
+
+
+def test_numpy_uint16_depth_gives_the_same_result_as_paths(pipeline, result_20_0_from_paths):
+    # The same pixels given as arrays (RGB, raw uint16 millimetres + depth_scale) must give
+    # exactly the CLI's answer: any difference means the array conversion differs from the files'.
+    r = pipeline.register({"views": [frame_view_dict(20)]}, {"views": [frame_view_dict(0)]})
+    np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
+    np.testing.assert_array_equal(r.source_points, result_20_0_from_paths.source_points)
+
+
+def test_read_color_returns_rgb(tmp_path):
+    # A binary PPM stores RGB bytes in order, independently of OpenCV's BGR convention.
+    path = tmp_path / "rgb.ppm"
+    pixels = bytes([255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30])  # red, green, blue, mixed
+    path.write_bytes(b"P6\n2 2\n255\n" + pixels)
+    color = zeroreg.read_color(str(path))
+    assert color.shape == (2, 2, 3) and color.dtype == np.uint8
+    expected = np.frombuffer(pixels, np.uint8).reshape(4, 3)
+    np.testing.assert_array_equal(color.reshape(4, 3), expected)
+
+
+def test_load_scan_round_trip_with_float_metres(pipeline, result_20_0_from_paths, gt_20_0):
+    source = zeroreg.load_scan(frame_spec(20))
+    target = zeroreg.load_scan(frame_spec(0))
+    view = source.views[0]
+    assert view.color.shape == (480, 640, 3) and view.color.dtype == np.uint8
+    assert view.depth.shape == (480, 640) and view.depth.dtype == np.float32
+    assert view.depth_scale is None
+    np.testing.assert_array_equal(view.intrinsics, [[585, 0, 320], [0, 585, 240], [0, 0, 1]])
+    np.testing.assert_array_equal(view.T_scan_camera, np.eye(4))
+    # Loaded colour is RGB: equal to read_color of the same file.
+    from conftest import frame_file
+
+    np.testing.assert_array_equal(view.color, zeroreg.read_color(frame_file(20, "color.jpg")))
+    # Depth is raw / 1000 with 0 and 65535 invalid.
+    raw = zeroreg.read_depth(frame_file(20, "depth.png"))
+    expected = np.where((raw == 0) | (raw == 65535), 0, raw / 1000.0).astype(np.float32)
+    np.testing.assert_array_equal(view.depth, expected)
+    # Ground truth of a single frame is its pose.
+    np.testing.assert_allclose(source.T_world_scan_gt, frame_pose(20))
+    np.testing.assert_allclose(
+        np.linalg.inv(target.T_world_scan_gt) @ source.T_world_scan_gt, gt_20_0, atol=1e-12
+    )
+
+    r = pipeline.register(source, target)  # zeroreg.Scan objects go back in unchanged
+    np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
+
+
+def test_scan_and_view_objects(pipeline, gt_20_0):
+    src = zeroreg.Scan(views=[zeroreg.View(**frame_view_dict(20))], name="frame 20")
+    tgt = zeroreg.Scan(views=[zeroreg.View(**frame_view_dict(0))])
+    assert_close_to_gt(pipeline.register(src, tgt), gt_20_0)
+
+
+def test_two_views_per_scan_use_the_camera_poses(pipeline, gt_20_0):
+    # Each scan holds two frames; the second view's pose places it in the first camera's frame
+    # (T_scan_camera = inv(P_first) @ P_second). Correspondences from the second view pair are
+    # only consistent with the first pair's if the poses are applied correctly.
+    def scan(first, second):
+        T = np.linalg.inv(frame_pose(first)) @ frame_pose(second)
+        return {"views": [frame_view_dict(first), frame_view_dict(second, T_scan_camera=T)]}
+
+    r = pipeline.register(scan(20, 30), scan(0, 10))
+    assert_close_to_gt(r, gt_20_0)
+    views = r.correspondence_views
+    assert set(np.unique(views)) == {0, 1}
+    # Both view pairs contribute inliers under the final transform.
+    assert r.is_inlier[views == 1].sum() > 50
+    assert r.is_inlier[views == 0].sum() > 50
+
+
+def test_optional_point_cloud_is_accepted(pipeline, result_20_0_from_paths):
+    view = frame_view_dict(20)
+    pts = np.random.default_rng(0).uniform(-1, 1, size=(100, 3)).astype(np.float32)
+    r = pipeline.register({"views": [view], "points": pts}, frame_spec(0))
+    # The image path ignores the cloud: the answer is the one without it.
+    np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
+
+
+def test_result_fields_are_consistent(result_20_0_from_paths):
+    r = result_20_0_from_paths
+    n = r.counts["correspondences"]
+    assert n > 100
+    assert r.source_points.shape == (n, 3) and r.target_points.shape == (n, 3)
+    assert r.source_pixels.shape == (n, 2) and r.target_pixels.shape == (n, 2)
+    assert r.is_inlier.shape == (n,) and r.is_inlier.dtype == np.bool_
+    assert r.scores.shape == (n,) and r.correspondence_views.shape == (n,)
+    assert r.is_inlier.sum() == r.counts["inliers"]
+    assert r.inlier_ratio == pytest.approx(r.counts["inliers"] / n)
+    # Inliers agree with the transform within the RANSAC threshold (5 cm by default).
+    T = r.T_target_source
+    moved = r.source_points[r.is_inlier] @ T[:3, :3].T + T[:3, 3]
+    assert np.linalg.norm(moved - r.target_points[r.is_inlier], axis=1).max() <= 0.05 + 1e-9
+    # Pixels lie inside the 640x480 images (pixel centres at integers: pixel 0 spans -0.5..0.5).
+    for pixels in (r.source_pixels, r.target_pixels):
+        assert (pixels >= -0.5).all()
+        assert (pixels[:, 0] < 639.5).all() and (pixels[:, 1] < 479.5).all()
+    assert list(r.timings)[-1] == "total" and all(v >= 0 for v in r.timings.values())
+    assert "valid" in repr(r)
+
+
+def test_to_dict_is_the_cli_json(result_20_0_from_paths):
+    r = result_20_0_from_paths
+    d = r.to_dict()
+    json.dumps(d)  # plain JSON types only
+    assert d["valid"] is True and d["path"] == "image" and d["reason"] == r.reason
+    np.testing.assert_array_equal(np.array(d["T_target_source"]), r.T_target_source)
+    assert d["counts"] == r.counts
+    assert "correspondences" not in d  # like the CLI without --with-correspondences
+    full = r.to_dict(correspondences=True)
+    assert len(full["correspondences"]) == r.counts["correspondences"]
+    first = full["correspondences"][0]
+    np.testing.assert_array_equal(first["source"], r.source_points[0])
+    assert first["inlier"] == bool(r.is_inlier[0])
+
+
+def test_determinism_same_seed_same_everything(pipeline):
+    a = pipeline.register(frame_spec(20), frame_spec(0))
+    b = zeroreg.register(frame_spec(20), frame_spec(0), seed=0)
+    np.testing.assert_array_equal(a.T_target_source, b.T_target_source)
+    np.testing.assert_array_equal(a.source_points, b.source_points)
+    np.testing.assert_array_equal(a.is_inlier, b.is_inlier)
+    assert a.to_dict()["counts"] == b.to_dict()["counts"]
+
+
+def test_config_dict_and_seed(gt_20_0):
+    config = {"features": {"backend": "sift", "max_keypoints": 2000}, "ransac": {"min_inliers": 10}}
+    p = zeroreg.Pipeline(config, seed=7)
+    assert p.config["features"]["backend"] == "sift"
+    assert p.config["features"]["max_keypoints"] == 2000
+    assert p.config["ransac"]["min_inliers"] == 10
+    assert p.config["seed"] == 7
+    # Untouched keys keep the defaults.
+    assert p.config["match"] == zeroreg.default_config()["match"]
+    r = p.register(frame_spec(20), frame_spec(0))
+    assert r.counts["keypoints_source"] <= 2000
+    assert_close_to_gt(r, gt_20_0)
+    # numpy scalars in a config are plain numbers.
+    p2 = zeroreg.Pipeline({"ransac": {"inlier_threshold_m": np.float64(0.03)}})
+    assert p2.config["ransac"]["inlier_threshold_m"] == 0.03
+
+
+def test_config_file_path(tmp_path):
+    path = tmp_path / "config.json"
+    path.write_text(json.dumps({"features": {"backend": "sift"}, "seed": 3}))
+    p = zeroreg.Pipeline(path)
+    assert p.config["features"]["backend"] == "sift" and p.config["seed"] == 3
