@@ -58,6 +58,31 @@ struct Correspondence {
   float score = 0.0f;  // matcher confidence (cosine similarity or match probability)
 };
 
+// One detection of an object in one view (for the result and the pictures).
+struct ObjectView {
+  int view = 0;
+  cv::Rect2f box;                  // pixels
+  float score = 0.0f;              // detector confidence
+  std::vector<cv::Point> outline;  // mask outline (largest contour), pixels
+};
+
+// An object found in a scan (paper §3.2): label, 3D centroid and where it was seen.
+struct ObjectSummary {
+  std::string label;
+  float score = 0.0f;                                // best detection score
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // scan frame, metres
+  int num_points = 0;
+  std::vector<ObjectView> views;
+};
+
+// A matched object pair (paper §3.3, Eq. 2), indices into the result's object lists.
+struct ObjectMatchSummary {
+  int source = 0;
+  int target = 0;
+  double node_similarity = 0.0;  // C = 1 + cos of the semantic features
+  int num_correspondences = 0;   // point correspondences found inside the pair (§3.4)
+};
+
 // One row of per-stage wall time, in milliseconds, in pipeline order.
 struct StageTime {
   std::string stage;
@@ -78,6 +103,9 @@ struct RegistrationResult {
   int ransac_iterations = 0;
   std::vector<Correspondence> correspondences;
   std::vector<bool> is_inlier;  // parallel to correspondences
+  std::vector<ObjectSummary> source_objects;
+  std::vector<ObjectSummary> target_objects;
+  std::vector<ObjectMatchSummary> object_matches;
   std::vector<StageTime> timings;
 };
 

@@ -15,6 +15,9 @@ struct CorrespondenceSet {
   std::vector<Correspondence> correspondences;
   int num_keypoints_source = 0;  // keypoints with valid 3D, over all views
   int num_keypoints_target = 0;
+  std::string path;  // RegistrationResult::path; empty = the source's name()
+  std::vector<ObjectSummary> source_objects, target_objects;
+  std::vector<ObjectMatchSummary> object_matches;
 };
 
 class CorrespondenceSource {
