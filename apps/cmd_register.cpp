@@ -5,6 +5,7 @@
 #include "commands.hpp"
 #include "config_options.hpp"
 #include "eval/metrics.hpp"
+#include "viz/pictures.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -14,7 +15,7 @@ namespace zeroreg::cli {
 namespace {
 
 struct RegisterOptions {
-  std::string source, target, out, gt;
+  std::string source, target, out, gt, viz;
   double depth_scale = 0.0;
   bool with_correspondences = false;
   ConfigOptions config;
@@ -40,6 +41,9 @@ Runner AddRegisterCommand(CLI::App& app) {
                  "poses when both have them)");
   app.add_option("--depth-scale", o->depth_scale,
                  "raw depth units per metre (default: the layout's, 1000 or TUM's 5000)");
+  app.add_option("--viz", o->viz,
+                 "write pictures (objects, correspondences, registered clouds) per view pair "
+                 "into this folder");
   app.add_flag("--with-correspondences", o->with_correspondences,
                "include every 3D correspondence in the JSON result");
   AddConfigOptions(app, &o->config);
@@ -92,6 +96,10 @@ Runner AddRegisterCommand(CLI::App& app) {
                              {"rotation_error_deg", rot},
                              {"translation_error_cm", trans * 100},
                              {"correspondence_inlier_ratio", gt_inliers}};
+    }
+    if (!o->viz.empty()) {
+      const auto pictures = WriteRegistrationPictures(o->viz, source, target, result);
+      std::printf("%zu pictures written to %s\n", pictures.size(), o->viz.c_str());
     }
     if (!o->out.empty()) {
       std::ofstream file(o->out);

@@ -1,0 +1,207 @@
+#include "viz/pictures.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+// Distinct, saturated colours (BGR) for matched pairs; cycled when there are more pairs.
+const cv::Scalar kPalette[] = {{75, 25, 230},  {75, 180, 60},  {25, 225, 255},  {200, 130, 0},
+                               {48, 130, 245}, {180, 30, 145}, {240, 240, 70},  {230, 50, 240},
+                               {60, 245, 210}, {128, 128, 0},  {255, 190, 220}, {40, 110, 170}};
+const cv::Scalar kGrey(150, 150, 150);
+
+cv::Mat SideBySide(const View& a, const View& b) {
+  cv::Mat canvas(std::max(a.color.rows, b.color.rows), a.color.cols + b.color.cols, CV_8UC3,
+                 cv::Scalar(0, 0, 0));
+  a.color.copyTo(canvas(cv::Rect(0, 0, a.color.cols, a.color.rows)));
+  b.color.copyTo(canvas(cv::Rect(a.color.cols, 0, b.color.cols, b.color.rows)));
+  return canvas;
+}
+
+void DrawObject(cv::Mat& canvas, const ObjectSummary& object, int view, int x_offset,
+                const cv::Scalar& colour) {
+  for (const ObjectView& ov : object.views) {
+    if (ov.view != view) continue;
+    const cv::Point offset(x_offset, 0);
+    if (!ov.outline.empty()) {
+      std::vector<cv::Point> shifted;
+      for (const cv::Point& p : ov.outline) shifted.push_back(p + offset);
+      cv::polylines(canvas, std::vector<std::vector<cv::Point>>{shifted}, true, colour, 2);
+    }
+    const cv::Rect box(cv::Point(static_cast<int>(ov.box.x) + x_offset, static_cast<int>(ov.box.y)),
+                       cv::Size(static_cast<int>(ov.box.width), static_cast<int>(ov.box.height)));
+    cv::rectangle(canvas, box, colour, 1);
+    char text[128];
+    std::snprintf(text, sizeof(text), "%s %.2f", object.label.c_str(), ov.score);
+    const cv::Point at(box.x + 2, std::max(box.y - 4, 12));
+    cv::putText(canvas, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 3);
+    cv::putText(canvas, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.45, colour, 1);
+  }
+}
+
+void Caption(cv::Mat& canvas, const std::string& text) {
+  cv::putText(canvas, text, cv::Point(8, canvas.rows - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+              cv::Scalar(0, 0, 0), 3);
+  cv::putText(canvas, text, cv::Point(8, canvas.rows - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5,
+              cv::Scalar(255, 255, 255), 1);
+}
+
+// Back-projects every `stride`-th valid depth pixel of `view` into the scan frame.
+std::vector<Eigen::Vector3d> DepthPoints(const View& view, int stride) {
+  std::vector<Eigen::Vector3d> points;
+  const Intrinsics& K = view.intrinsics;
+  for (int y = 0; y < view.depth.rows; y += stride) {
+    for (int x = 0; x < view.depth.cols; x += stride) {
+      const float z = view.depth.at<float>(y, x);
+      if (z <= 0) continue;
+      const Eigen::Vector4d p((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z, 1.0);
+      points.push_back((view.T_scan_camera * p).head<3>());
+    }
+  }
+  return points;
+}
+
+}  // namespace
+
+cv::Mat DrawObjectMatches(const Scan& source, const Scan& target, const RegistrationResult& result,
+                          int view) {
+  const View& a = source.views[view];
+  cv::Mat canvas = SideBySide(a, target.views[view]);
+  std::vector<int> colour_s(result.source_objects.size(), -1),
+      colour_t(result.target_objects.size(), -1);
+  for (size_t k = 0; k < result.object_matches.size(); ++k) {
+    colour_s[result.object_matches[k].source] = static_cast<int>(k);
+    colour_t[result.object_matches[k].target] = static_cast<int>(k);
+  }
+  const int palette = static_cast<int>(std::size(kPalette));
+  for (size_t i = 0; i < result.source_objects.size(); ++i) {
+    DrawObject(canvas, result.source_objects[i], view, 0,
+               colour_s[i] < 0 ? kGrey : kPalette[colour_s[i] % palette]);
+  }
+  for (size_t i = 0; i < result.target_objects.size(); ++i) {
+    DrawObject(canvas, result.target_objects[i], view, a.color.cols,
+               colour_t[i] < 0 ? kGrey : kPalette[colour_t[i] % palette]);
+  }
+  char text[160];
+  std::snprintf(
+      text, sizeof(text), "source | target   %zu / %zu objects, %zu matched (grey: unmatched)",
+      result.source_objects.size(), result.target_objects.size(), result.object_matches.size());
+  Caption(canvas, text);
+  return canvas;
+}
+
+cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
+                            const RegistrationResult& result, int view) {
+  const View& a = source.views[view];
+  cv::Mat canvas = SideBySide(a, target.views[view]);
+  const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
+  int inliers = 0, outliers = 0;
+  // Outliers first so that inliers are drawn on top.
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t i = 0; i < result.correspondences.size(); ++i) {
+      const Correspondence& c = result.correspondences[i];
+      if (c.view != view) continue;
+      const bool inlier = i < result.is_inlier.size() && result.is_inlier[i];
+      if (inlier != (pass == 1)) continue;
+      (inlier ? inliers : outliers)++;
+      const cv::Point2f p(c.source_pixel.x(), c.source_pixel.y());
+      const cv::Point2f q = cv::Point2f(c.target_pixel.x(), c.target_pixel.y()) + offset;
+      const cv::Scalar colour = inlier ? cv::Scalar(60, 200, 60) : cv::Scalar(40, 40, 230);
+      cv::line(canvas, p, q, colour, 1, cv::LINE_AA);
+      cv::circle(canvas, p, 2, colour, -1);
+      cv::circle(canvas, q, 2, colour, -1);
+    }
+  }
+  char text[160];
+  std::snprintf(text, sizeof(text), "%d RANSAC inliers (green), %d outliers (red); path %s",
+                inliers, outliers, result.path.c_str());
+  Caption(canvas, text);
+  return canvas;
+}
+
+cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
+                             const Transform& T_target_source, int view) {
+  const View& tv = target.views[view];
+  const Intrinsics& K = tv.intrinsics;
+  cv::Mat canvas(tv.color.rows, tv.color.cols, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat zbuffer(tv.color.rows, tv.color.cols, CV_32F, cv::Scalar(1e9f));
+  const Transform T_camera_target = tv.T_scan_camera.inverse();
+  auto splat = [&](const std::vector<Eigen::Vector3d>& points, const Transform& T,
+                   const cv::Vec3b& colour) {
+    for (const Eigen::Vector3d& p : points) {
+      const Eigen::Vector3d c = (T * p.homogeneous()).head<3>();
+      if (c.z() <= 0.05) continue;
+      const int x = static_cast<int>(std::lround(K.fx * c.x() / c.z() + K.cx));
+      const int y = static_cast<int>(std::lround(K.fy * c.y() / c.z() + K.cy));
+      for (int dy = 0; dy <= 1; ++dy) {
+        for (int dx = 0; dx <= 1; ++dx) {
+          const int u = x + dx, v = y + dy;
+          if (u < 0 || v < 0 || u >= canvas.cols || v >= canvas.rows) continue;
+          // Points within 1 cm of the nearest surface both show, so that overlap interleaves.
+          if (c.z() < zbuffer.at<float>(v, u) + 0.01f) {
+            zbuffer.at<float>(v, u) = std::min(zbuffer.at<float>(v, u), static_cast<float>(c.z()));
+            canvas.at<cv::Vec3b>(v, u) = colour;
+          }
+        }
+      }
+    }
+  };
+  std::vector<Eigen::Vector3d> target_points, source_points;
+  for (const View& v : target.views) {
+    const auto p = DepthPoints(v, 3);
+    target_points.insert(target_points.end(), p.begin(), p.end());
+  }
+  for (const View& v : source.views) {
+    const auto p = DepthPoints(v, 3);
+    source_points.insert(source_points.end(), p.begin(), p.end());
+  }
+  // Interleave draw order by splitting each cloud in halves, so neither colour always wins.
+  const size_t hs = source_points.size() / 2, ht = target_points.size() / 2;
+  const std::vector<Eigen::Vector3d> s1(source_points.begin(), source_points.begin() + hs),
+      s2(source_points.begin() + hs, source_points.end()),
+      t1(target_points.begin(), target_points.begin() + ht),
+      t2(target_points.begin() + ht, target_points.end());
+  const cv::Vec3b blue(200, 120, 30), orange(30, 140, 250);
+  splat(t1, T_camera_target, blue);
+  splat(s1, T_camera_target * T_target_source, orange);
+  splat(t2, T_camera_target, blue);
+  splat(s2, T_camera_target * T_target_source, orange);
+  Caption(canvas,
+          "registered: target blue, source orange (in target view " + std::to_string(view) + ")");
+  return canvas;
+}
+
+std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
+                                                   const Scan& target,
+                                                   const RegistrationResult& result) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw MakeInputError(dir, "cannot create the picture folder (" + ec.message() + ")");
+  std::vector<std::string> written;
+  auto write = [&](const std::string& name, const cv::Mat& image) {
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    if (!cv::imwrite(path, image)) throw MakeInputError(path, "cannot write the picture");
+    written.push_back(path);
+  };
+  const size_t views = std::min(source.views.size(), target.views.size());
+  for (size_t v = 0; v < views; ++v) {
+    const std::string suffix = "-view" + std::to_string(v) + ".png";
+    const int view = static_cast<int>(v);
+    if (!result.source_objects.empty() || !result.target_objects.empty()) {
+      write("objects" + suffix, DrawObjectMatches(source, target, result, view));
+    }
+    write("correspondences" + suffix, DrawCorrespondences(source, target, result, view));
+    write("registered" + suffix,
+          DrawRegisteredClouds(source, target, result.T_target_source, view));
+  }
+  return written;
+}
+
+}  // namespace zeroreg
