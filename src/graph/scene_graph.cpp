@@ -66,6 +66,7 @@ Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
     for (Eigen::Index i = 0; i < n; ++i) {
       dist2[static_cast<std::size_t>(i)] = (centroids.row(i) - centroids.row(j)).squaredNorm();
     }
+    order.resize(static_cast<std::size_t>(n));
     std::iota(order.begin(), order.end(), Eigen::Index{0});
     order.erase(order.begin() + j);  // a node is not its own neighbour
     // Stable by index on equal distances, so the graph does not depend on sort internals.

@@ -44,7 +44,7 @@ struct Problem {
           const ObjectMatchConfig& config, const MatchMask& mask)
       : wp(W_p),
         wq(W_q),
-        wq2(W_q.cwiseProduct(W_q)),
+        wq2(config.target_edge_weight * W_q.cwiseProduct(W_q)),
         n(static_cast<int>(W_p.rows())),
         m(static_cast<int>(W_q.rows())) {
     Validate(W_p, W_q, C, mask);
@@ -131,7 +131,13 @@ ObjectMatchResult MakeResult(const Problem& p, const Eigen::MatrixXd& C, std::ve
 // Exact: depth-first branch and bound over partial injections.
 class BranchAndBound {
  public:
-  explicit BranchAndBound(const Problem& p) : p_(p), current_(p.n, -1), used_(p.m, 0) {
+  BranchAndBound(const Problem& p, double beta)
+      : p_(p),
+        beta_(beta),
+        lo_(std::min(0.0, p.m > 0 ? p.wq.minCoeff() : 0.0)),
+        hi_(std::max(0.0, p.m > 0 ? p.wq.maxCoeff() : 0.0)),
+        current_(p.n, -1),
+        used_(p.m, 0) {
     // Most connected sources first: their choices constrain the score most, so bounds bite early.
     order_.resize(p.n);
     std::iota(order_.begin(), order_.end(), 0);
@@ -140,8 +146,8 @@ class BranchAndBound {
     std::stable_sort(order_.begin(), order_.end(),
                      [&](int a, int b) { return degree[a] > degree[b]; });
     // bound_[d]: upper bound on what sources order_[d..] can still add. A source adds at most
-    // max(0, best unary) plus, per pair with an earlier source, max_x (2 a x - x^2) summed over
-    // both directions = W^p_jj'^2 + W^p_j'j^2 (reached when the target edge equals the source's).
+    // max(0, best unary) plus, per pair with an earlier source and per edge direction,
+    // max_x (2 a x - beta x^2) = a^2 / beta when beta > 0 and x can reach a / beta.
     bound_.assign(p.n + 1, 0.0);
     for (int d = p.n - 1; d >= 0; --d) {
       const int j = order_[d];
@@ -152,12 +158,19 @@ class BranchAndBound {
       double pairs = 0.0;
       for (int e = 0; e < d; ++e) {
         const int j2 = order_[e];
-        pairs += p.wp(j, j2) * p.wp(j, j2) + p.wp(j2, j) * p.wp(j2, j);
+        pairs += PairBound(p.wp(j, j2)) + PairBound(p.wp(j2, j));
       }
       bound_[d] = bound_[d + 1] + best_unary + pairs;
     }
     best_ = current_;
     best_score_ = 0.0;  // the empty assignment
+  }
+
+  // max over x in [lo, hi] of 2 a x - beta x^2: what one edge direction with source weight a can
+  // add for any target edge weight x (x = 0 when the pair is not an edge or not matched).
+  double PairBound(double a) const {
+    const double x = beta_ > 0.0 ? std::clamp(a / beta_, lo_, hi_) : (a >= 0.0 ? hi_ : lo_);
+    return 2.0 * a * x - beta_ * x * x;
   }
 
   std::vector<int> Solve() {
@@ -201,6 +214,7 @@ class BranchAndBound {
   }
 
   const Problem& p_;
+  double beta_, lo_, hi_;  // target-edge weight and the range of W^q (with 0)
   std::vector<int> order_;
   std::vector<double> bound_;
   std::vector<int> current_;
@@ -403,7 +417,7 @@ ObjectMatchResult MatchObjectsExact(const Eigen::MatrixXd& W_p, const Eigen::Mat
                                     const Eigen::MatrixXd& C, const ObjectMatchConfig& config,
                                     const MatchMask& allowed) {
   const Problem p(W_p, W_q, C, config, allowed);
-  BranchAndBound bnb(p);
+  BranchAndBound bnb(p, config.target_edge_weight);
   std::vector<int> a = bnb.Solve();
   return MakeResult(p, C, std::move(a), ObjectMatchSolver::kExact, bnb.nodes());
 }
@@ -422,7 +436,7 @@ ObjectMatchResult MatchObjectsApproximate(const Eigen::MatrixXd& W_p, const Eige
   // allowed pairs (still doubly substochastic).
   const Eigen::MatrixXd barycentre = mask / static_cast<double>(p.n + p.m);
   std::vector<int> best;
-  double best_score = -std::numeric_limits<double>::infinity();
+  double best_score = 0.0;
   std::uint64_t steps = 0;
   const int starts = std::max(1, config.restarts);
   for (int s = 0; s < starts; ++s) {
@@ -445,7 +459,7 @@ ObjectMatchResult MatchObjectsApproximate(const Eigen::MatrixXd& W_p, const Eige
     std::vector<int> a = Project(x, p.allowed);
     LocalSearch(p, a);
     const double score = p.Score(a);
-    if (score > best_score + kImproveEps * (1.0 + std::abs(best_score))) {
+    if (best.empty() || score > best_score + kImproveEps * (1.0 + std::abs(best_score))) {
       best_score = score;
       best = std::move(a);
     }

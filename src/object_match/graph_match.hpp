@@ -50,6 +50,10 @@ struct ObjectMatchConfig {
   // tau: cost of each matched pair (same units as E). 1 makes the unary term cos(s_j, s_k), so a
   // pair of unrelated objects (cos <= 0) is never matched without structural support. 0 is Eq. 2.
   double match_cost = 1.0;
+  // beta: weight of ||X W^q X^T||_F^2, the part of the Frobenius term that charges target edges
+  // between matched nodes (see above). 1 is Eq. 2; 0 leaves only the edge agreement
+  // 2 <W^p, X W^q X^T> (Koopmans-Beckmann QAP). Must be >= 0.
+  double target_edge_weight = 1.0;
   // kAuto uses the exact solver up to this many partial injections (the worst-case number of
   // leaves of its search tree). 150000 covers n = m = 7 (130922) and n = 6, m <= 9 and keeps the
   // worst case well under 50 ms (docs/MATCHING.md has timings).

@@ -26,12 +26,17 @@ Eigen::MatrixXd AssignmentMatrix(const std::vector<int>& a, int m) {
   return x;
 }
 
-// E(X) straight from the matrices: ||W_p - X W_q X^T||_F^2 - alpha <C, X> + tau 1^T X 1.
+// E(X) straight from the matrices: ||W_p - X W_q X^T||_F^2 - alpha <C, X> + tau 1^T X 1, with
+// the ||X W_q X^T||^2 part of the norm weighted by beta (= 1: the plain Frobenius norm).
 double DirectEnergy(const Eigen::MatrixXd& wp, const Eigen::MatrixXd& wq, const Eigen::MatrixXd& c,
                     const std::vector<int>& a, const ObjectMatchConfig& cfg) {
   const Eigen::MatrixXd x = AssignmentMatrix(a, static_cast<int>(wq.rows()));
-  return (wp - x * wq * x.transpose()).squaredNorm() - cfg.node_weight * c.cwiseProduct(x).sum() +
-         cfg.match_cost * x.sum();
+  const Eigen::MatrixXd xwx = x * wq * x.transpose();
+  const double beta = cfg.target_edge_weight;
+  const double frobenius =
+      beta == 1.0 ? (wp - xwx).squaredNorm()
+                  : wp.squaredNorm() - 2.0 * wp.cwiseProduct(xwx).sum() + beta * xwx.squaredNorm();
+  return frobenius - cfg.node_weight * c.cwiseProduct(x).sum() + cfg.match_cost * x.sum();
 }
 
 // Minimum of DirectEnergy over every partial injection (independent of the solvers' algebra).
@@ -113,6 +118,7 @@ TEST(GraphMatch, ScoreAndEnergyAgreeWithTheFrobeniusFormOfEq2) {
     ObjectMatchConfig cfg;
     cfg.node_weight = Uniform(rng, 0, 3);
     cfg.match_cost = Uniform(rng, -1, 2);
+    cfg.target_edge_weight = trial % 3 == 0 ? 1.0 : Uniform(rng, 0, 2);
     // A random partial injection.
     std::vector<int> targets(m);
     std::iota(targets.begin(), targets.end(), 0);
@@ -153,6 +159,7 @@ TEST(GraphMatch, ExactSolverEqualsBruteForce) {
     ObjectMatchConfig cfg;
     cfg.node_weight = trial % 4 == 0 ? 1.0 : Uniform(rng, 0, 3);
     cfg.match_cost = trial % 4 == 0 ? 0.0 : Uniform(rng, -1, 3);
+    if (trial % 4 == 2) cfg.target_edge_weight = trial % 8 == 2 ? 0.0 : Uniform(rng, 0.1, 2);
     MatchMask mask;
     if (trial % 5 == 1) {
       mask.resize(n, m);
@@ -185,35 +192,41 @@ std::pair<double, double> RecallPrecision(const std::vector<int>& a, const std::
           matched ? static_cast<double>(correct) / matched : 1.0};
 }
 
+// Synthetic scans of a room: the target sees 80% of the source (the part next to its own new
+// area, which holds n / 6 extra objects), rigidly moved, shuffled, 2 cm centroid noise, 12 object
+// classes with CLIP-like embeddings (cos ~ 0.5 between classes). Solved as the pipeline does, with
+// the label-compatibility mask. (Without labels, kNN graphs of random layouts have many
+// near-isomorphisms and the optimum of Eq. 2 is often not the truth: docs/MATCHING.md.)
 TEST(GraphMatch, ApproximateSolverRecoversKnownCorrespondence) {
   ObjectMatchConfig cfg;
   cfg.solver = ObjectMatchSolver::kApproximate;
-  double sum_recall = 0, sum_precision = 0;
-  int runs = 0;
   for (int n : {10, 15, 20, 25, 30}) {
-    for (std::uint64_t seed = 0; seed < 4; ++seed) {
-      const ScenePair s = MakeScenePair(n, 0.85, n / 6, 0.02, 6, 1000 + 10 * n + seed);
+    double sum_recall = 0, sum_precision = 0, max_ms = 0;
+    const int scenes = 8;
+    for (int seed = 0; seed < scenes; ++seed) {
+      const ScenePair s = MakeScenePair(n, 0.8, n / 6, 0.02, 12, 1000 + 10 * n + seed);
       const Eigen::MatrixXd wp = BuildAffinityMatrix(s.centroids_p, s.semantics_p);
       const Eigen::MatrixXd wq = BuildAffinityMatrix(s.centroids_q, s.semantics_q);
       const Eigen::MatrixXd c = NodeSimilarity(s.semantics_p, s.semantics_q);
+      const MatchMask mask = LabelCompatibilityMask(s.labels_p, s.labels_q);
       const auto t0 = std::chrono::steady_clock::now();
-      const ObjectMatchResult r = MatchObjects(wp, wq, c, cfg);
-      const double ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      const ObjectMatchResult r = MatchObjects(wp, wq, c, cfg, mask);
+      max_ms = std::max(
+          max_ms,
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       const auto [recall, precision] = RecallPrecision(r.source_to_target, s.truth);
-      std::printf("  n=%d m=%d seed=%d recall=%.2f precision=%.2f %.1f ms\n", n,
-                  static_cast<int>(wq.rows()), static_cast<int>(seed), recall, precision, ms);
-      EXPECT_GE(recall, 0.9) << "n " << n << " seed " << seed;
-      EXPECT_GE(precision, 0.9) << "n " << n << " seed " << seed;
-      // The truth is a feasible point; a good solver should not score below it.
-      EXPECT_GE(r.score, GraphMatchScore(wp, wq, c, s.truth, cfg) - 1e-9);
+      EXPECT_GE(recall, 0.75) << "n " << n << " seed " << seed;
+      EXPECT_GE(precision, 0.75) << "n " << n << " seed " << seed;
+      // The truth is feasible: the solver must not end below it.
+      EXPECT_GE(r.score, GraphMatchScore(wp, wq, c, s.truth, cfg) - 1e-9) << n << " " << seed;
       sum_recall += recall;
       sum_precision += precision;
-      ++runs;
     }
+    std::printf("  n=%d: mean recall %.3f, mean precision %.3f, slowest %.1f ms\n", n,
+                sum_recall / scenes, sum_precision / scenes, max_ms);
+    EXPECT_GE(sum_recall / scenes, 0.9) << "n " << n;
+    EXPECT_GE(sum_precision / scenes, 0.9) << "n " << n;
   }
-  std::printf("  mean recall %.3f, mean precision %.3f over %d scenes\n", sum_recall / runs,
-              sum_precision / runs, runs);
 }
 
 TEST(GraphMatch, ApproximateSolverMostlyFindsTheExactOptimumOnSmallInstances) {
@@ -254,9 +267,10 @@ TEST(GraphMatch, AutoChoosesBySizeAndExactIsFastAtTheLimit) {
   EXPECT_THROW(ObjectMatchSolverFromString("qap"), InputError);
 }
 
-// "Which chair?": a table with four chairs around it, and behind each chair a different object.
-// All chairs have the same semantic vector, so node similarity cannot tell them apart; only their
-// neighbours (the object behind each) can. The target is the same room rigidly moved and shuffled.
+// "Which chair?": a table with four chairs around it. All chairs have the same semantic vector, so
+// node similarity cannot tell them apart; only their neighbours can: a lamp behind chair 1, a
+// plant and a tv behind chair 2, a bin behind chair 3, nothing behind chair 4. The target is the
+// same room rigidly moved and shuffled.
 struct ChairRoom {
   Eigen::MatrixXd centroids;
   std::vector<std::string> labels;
@@ -265,24 +279,30 @@ struct ChairRoom {
 ChairRoom MakeChairRoom() {
   ChairRoom room;
   std::vector<Eigen::Vector3d> p;
-  p.emplace_back(0, 0, 0.7);
+  p.emplace_back(0.03, 0.02, 0.7);  // off-centre: no two chairs at the same distance
   room.labels.push_back("table");
   // Angles slightly off 90 degrees so that no two distances tie.
   const double angles_deg[4] = {0, 85, 183, 271};
-  const char* behind[4] = {"lamp", "plant", "tv", "bin"};
   for (int i = 0; i < 4; ++i) {
     const double a = angles_deg[i] * M_PI / 180.0;
     p.emplace_back(0.8 * std::cos(a), 0.8 * std::sin(a), 0.45);
     room.labels.push_back("chair");
   }
-  for (int i = 0; i < 4; ++i) {
-    const double a = angles_deg[i] * M_PI / 180.0;
-    p.emplace_back(1.5 * std::cos(a), 1.5 * std::sin(a), 0.6);
-    room.labels.push_back(behind[i]);
+  struct Behind {
+    int chair;
+    double radius;
+    const char* label;
+  };
+  const Behind behind[4] = {{0, 1.5, "lamp"}, {1, 1.5, "plant"}, {1, 2.2, "tv"}, {2, 1.5, "bin"}};
+  for (const Behind& b : behind) {
+    const double a = angles_deg[b.chair] * M_PI / 180.0;
+    p.emplace_back(b.radius * std::cos(a), b.radius * std::sin(a), 0.6);
+    room.labels.push_back(b.label);
   }
   room.centroids.resize(static_cast<Eigen::Index>(p.size()), 3);
-  for (std::size_t i = 0; i < p.size(); ++i)
+  for (std::size_t i = 0; i < p.size(); ++i) {
     room.centroids.row(static_cast<Eigen::Index>(i)) = p[i];
+  }
   return room;
 }
 
@@ -335,7 +355,7 @@ TEST(GraphMatch, WhichChairIsResolvedByTheSceneGraphNotByNodeSimilarity) {
       const double node_true = (c.cwiseProduct(AssignmentMatrix(truth, n))).sum();
       const double node_swapped = (c.cwiseProduct(AssignmentMatrix(swapped, n))).sum();
       EXPECT_EQ(node_true, node_swapped);
-      EXPECT_LT(GraphMatchScore(wp, wq, c, swapped, cfg), true_score - 1.0);
+      EXPECT_LT(GraphMatchScore(wp, wq, c, swapped, cfg), true_score - 1.0) << seed;
     }
 
     cfg.solver = ObjectMatchSolver::kNodeOnly;
@@ -372,7 +392,7 @@ TEST(GraphMatch, UnmatchedObjectsStayUnmatched) {
     labels_q.push_back(room.labels[j]);
     truth[j] = k++;
   }
-  cen_q.row(k) << 8.0, 8.0, 0.5;
+  cen_q.row(k) << 0.3, -9.0, 0.5;  // beyond chair 4, on the side away from where the tv was
   labels_q.push_back("sink");
   const Eigen::MatrixXd sem_p = OneHot(room.labels, vocab), sem_q = OneHot(labels_q, vocab);
   const Eigen::MatrixXd wp = BuildAffinityMatrix(room.centroids, sem_p);

@@ -41,18 +41,26 @@ struct ScenePair {
   std::vector<int> truth;  // source -> target, -1 when the object is not in the target
 };
 
+// How the target's part of the source is chosen.
+enum class Overlap {
+  kCrop,    // like two scans: the target sees the part of the source with the largest x, and the
+            // extras lie beyond it (x > side: new area seen only by the target)
+  kRandom,  // a random subset, extras anywhere in the room (harder: every neighbourhood changes)
+};
+
 // n source objects at least min_spacing apart in a room whose area grows with n; the target keeps
-// a random keep_fraction of them, adds `extras` new objects, is rigidly moved (rotation about z,
+// keep_fraction of them, adds `extras` new objects, is rigidly moved (rotation about z,
 // translation), gets Gaussian centroid noise (sigma per axis, metres) and is shuffled.
 inline ScenePair MakeScenePair(int n, double keep_fraction, int extras, double noise, int classes,
-                               std::uint64_t seed, double min_spacing = 0.6) {
+                               std::uint64_t seed, Overlap overlap = Overlap::kCrop,
+                               double min_spacing = 0.6) {
   std::mt19937_64 rng(seed);
   const Eigen::MatrixXd embeddings = ClassEmbeddings(classes, 16, rng);
-  const double side = 1.6 * std::sqrt(static_cast<double>(n + extras));
+  const double side = 1.6 * std::sqrt(static_cast<double>(n));
   std::vector<Eigen::Vector3d> positions;
-  auto place = [&]() {
+  auto place = [&](double x_lo, double x_hi) {
     for (;;) {
-      const Eigen::Vector3d p(Uniform(rng, 0, side), Uniform(rng, 0, side), Uniform(rng, 0, 2));
+      const Eigen::Vector3d p(Uniform(rng, x_lo, x_hi), Uniform(rng, 0, side), Uniform(rng, 0, 2));
       bool ok = true;
       for (const auto& q : positions) ok = ok && (p - q).norm() >= min_spacing;
       if (ok) return p;
@@ -60,8 +68,14 @@ inline ScenePair MakeScenePair(int n, double keep_fraction, int extras, double n
   };
   ScenePair s;
   std::vector<int> cls;
-  for (int j = 0; j < n + extras; ++j) {
-    positions.push_back(place());
+  for (int j = 0; j < n; ++j) {
+    positions.push_back(place(0, side));
+    cls.push_back(static_cast<int>(rng() % static_cast<std::uint64_t>(classes)));
+  }
+  // Extras: beyond the room (kCrop, in a strip as deep as the density needs) or inside it.
+  const double strip = side * extras / std::max(n, 1);
+  for (int e = 0; e < extras; ++e) {
+    positions.push_back(overlap == Overlap::kCrop ? place(side, side + strip) : place(0, side));
     cls.push_back(static_cast<int>(rng() % static_cast<std::uint64_t>(classes)));
   }
   s.centroids_p.resize(n, 3);
@@ -75,6 +89,11 @@ inline ScenePair MakeScenePair(int n, double keep_fraction, int extras, double n
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::shuffle(order.begin(), order.end(), rng);
+  if (overlap == Overlap::kCrop) {
+    // Keep the objects with the largest x: the part of the room next to the new area (x > side).
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return positions[a].x() > positions[b].x(); });
+  }
   std::vector<int> members(order.begin(),
                            order.begin() + static_cast<int>(std::lround(keep_fraction * n)));
   for (int e = 0; e < extras; ++e) members.push_back(n + e);
