@@ -249,16 +249,16 @@ TEST(GraphMatch, ApproximateSolverMostlyFindsTheExactOptimumOnSmallInstances) {
 TEST(GraphMatch, AutoChoosesBySizeAndExactIsFastAtTheLimit) {
   ObjectMatchConfig cfg;
   std::mt19937_64 rng(9);
-  const Instance small = RandomInstance(7, 7, false, rng);
+  const Instance small = RandomInstance(8, 8, false, rng);
   const auto t0 = std::chrono::steady_clock::now();
   const ObjectMatchResult r = MatchObjects(small.wp, small.wq, small.c, cfg);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(r.solver, ObjectMatchSolver::kExact);
-  std::printf("  exact 7x7: %.2f ms, %llu search nodes (of %llu leaves)\n", ms,
+  std::printf("  exact 8x8: %.2f ms, %llu search nodes (of %llu leaves)\n", ms,
               static_cast<unsigned long long>(r.search_nodes),
-              static_cast<unsigned long long>(CountPartialInjections(7, 7)));
-  const Instance big = RandomInstance(8, 8, false, rng);
+              static_cast<unsigned long long>(CountPartialInjections(8, 8)));
+  const Instance big = RandomInstance(9, 8, false, rng);
   EXPECT_EQ(MatchObjects(big.wp, big.wq, big.c, cfg).solver, ObjectMatchSolver::kApproximate);
   cfg.solver = ObjectMatchSolver::kNodeOnly;
   EXPECT_EQ(MatchObjects(big.wp, big.wq, big.c, cfg).solver, ObjectMatchSolver::kNodeOnly);
