@@ -18,14 +18,6 @@ struct FeatureConfig {
   double sift_contrast_threshold = 0.04;
 };
 
-// Matching descriptors between two images.
-struct MatchConfig {
-  std::string method = "mutual_nn";  // mutual nearest neighbours on cosine similarity
-  // Matches whose descriptor cosine similarity is below this are dropped. Descriptors are
-  // L2-normalised, so this is a unit-free similarity in [-1, 1].
-  double min_cosine = 0.5;
-};
-
 // Lifting matched pixels to 3D with depth.
 struct LiftConfig {
   double min_depth_m = 0.1;  // closer readings are sensor noise for structured-light cameras
@@ -35,6 +27,79 @@ struct LiftConfig {
   // registered (7-Scenes: ~5 px), so the radius is a few pixels.
   int depth_edge_radius_px = 4;
   double depth_edge_relative = 0.05;
+};
+
+struct SinkhornConfig {
+  int iterations = 20;  // paper: 20 Sinkhorn iterations
+  // T, in cosine-similarity units. Dividing S by T turns cosines in [-1, 1] into logits in
+  // [-1/T, 1/T]; Sinkhorn on S/T maximises <P, S> + T H(P), so T is the entropic regularisation:
+  // small T approaches the hard optimal assignment, large T spreads probability. 0.1 is the usual
+  // dual-softmax temperature for L2-normalised descriptors (LoFTR, XFeat's matcher).
+  double temperature = 0.1;
+  // z of Eq. 4, in logit units, i.e. the dustbin entries are z and NOT divided by T. The paper's
+  // z = 1 comes from SuperGlue, where the bin score is a logit compared with unnormalised scores.
+  // Read on the raw cosine scale (z / T = 10) the dustbin would tie with a perfect match (cos = 1)
+  // and take about half of every point's mass; in logit units a match competes with the dustbin
+  // once its cosine exceeds z * T = 0.1.
+  double dustbin_score = 1.0;
+  // A match is kept when P_ij is at least this (P_ij is a probability: real rows sum to 1).
+  double min_probability = 0.2;
+  // Keep (i, j) only when j is i's best target and i is j's best source (dustbin excluded from
+  // both argmaxes, as in SuperGlue). When false, every source keeps its best target.
+  bool mutual = true;
+};
+
+// Matching descriptors between two images (paper §3.4).
+struct MatchConfig {
+  // "sinkhorn" (the paper's: dustbin, Eq. 4, and Sinkhorn) or "mutual_nn" (mutual nearest
+  // neighbours on cosine similarity, the ablation).
+  std::string method = "sinkhorn";
+  // mutual_nn: matches whose descriptor cosine similarity is below this are dropped. Descriptors
+  // are L2-normalised, so this is a unit-free similarity in [-1, 1].
+  double min_cosine = 0.5;
+  SinkhornConfig sinkhorn;
+};
+
+struct SceneGraphConfig {
+  // Each node is connected to its knn nearest other nodes by Euclidean distance of the centroids
+  // (paper: k = 3). A graph with N <= knn nodes is complete.
+  int knn = 3;
+  // The paper's kNN relation is directed (k in kNN(j) does not imply j in kNN(k)). When true
+  // (default) W is symmetrised with max, i.e. the union of both directions; the weight 1 + cos is
+  // itself symmetric, so max only adds the missing direction. Why: a directed kNN edge flips when
+  // one nearby object is missing or added in the other scan (partial overlap), whereas the union
+  // graph changes less; a symmetric W also makes the Frobenius term of Eq. 2 count every edge
+  // twice, once per direction, so no direction is privileged. The matchers accept either.
+  bool symmetric = true;
+};
+
+enum class ObjectMatchSolver {
+  kAuto,   // exact when CountPartialInjections(n, m) <= max_exact_assignments, else approximate
+  kExact,  // branch and bound over all partial injections
+  kApproximate,  // Frank-Wolfe (FAQ) relaxation + Hungarian projection + local search, restarts
+  kNodeOnly,     // ablation "without scene graph": maximise sum (alpha C - tau) by Hungarian only
+};
+
+struct ObjectMatchConfig {
+  ObjectMatchSolver solver = ObjectMatchSolver::kAuto;
+  // alpha: weight of the node term <C, X>. 1 as in Eq. 2.
+  double node_weight = 1.0;
+  // tau: cost of each matched pair (same units as E). 1 makes the unary term cos(s_j, s_k), so a
+  // pair of unrelated objects (cos <= 0) is never matched without structural support. 0 is Eq. 2.
+  double match_cost = 1.0;
+  // beta: weight of ||X W^q X^T||_F^2, the part of the Frobenius term that charges target edges
+  // between matched nodes (docs/MATCHING.md). 1 is Eq. 2; 0 leaves only the edge agreement
+  // 2 <W^p, X W^q X^T> (Koopmans-Beckmann QAP). Must be >= 0.
+  double target_edge_weight = 1.0;
+  // kAuto uses the exact solver up to this many partial injections (the leaves of its search
+  // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
+  // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
+  std::uint64_t max_exact_assignments = 2000000;
+  // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
+  // seeded random interior points) and Frank-Wolfe iterations per start.
+  int restarts = 6;
+  int iterations = 60;
+  std::uint64_t seed = 0;  // random starts of the approximate solver
 };
 
 // Robust estimation of the rigid transform from 3D correspondences (paper §3.4, RANSAC).
@@ -66,12 +131,33 @@ struct ObjectsConfig {
   double point_voxel_m = 0.02;
 };
 
+// Which parts of the method run. The paper's Table 4 ablation rows are switches here.
+struct MethodConfig {
+  // false: features over the whole image (Table 4 row a, "w/o Object-Level").
+  bool object_level = true;
+  // false: objects matched by node similarity + Hungarian only ("w/o scene graph").
+  bool scene_graph = true;
+  // false: labels compared by equality only, no CLIP text features ("w/o CLIP").
+  bool clip = true;
+  // true: label-incompatible pairs are forbidden inside the assignment of Eq. 2, not only dropped
+  // after it as the paper does. Without it the structural term often prefers a wrong matching on
+  // near-regular kNN graphs (measured on synthetic scenes, docs/MATCHING.md).
+  bool label_mask_in_solve = true;
+  // Fall back to whole-image matching when the object level yields fewer matched object pairs or
+  // fewer point correspondences than this.
+  int min_object_matches = 1;
+  int min_object_correspondences = 30;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
   LiftConfig lift;
   RansacConfig ransac;
   ObjectsConfig objects;
+  SceneGraphConfig scene_graph;
+  ObjectMatchConfig object_match;
+  MethodConfig method;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: --assets, then $ZEROREG_ASSETS, then <repo>/assets
 };

@@ -6,20 +6,10 @@
 
 #include <Eigen/Core>
 
+#include "zeroreg/config.hpp"
+
 namespace zeroreg {
 
-struct SceneGraphConfig {
-  // Each node is connected to its knn nearest other nodes by Euclidean distance of the centroids
-  // (paper: k = 3). A graph with N <= knn nodes is complete.
-  int knn = 3;
-  // The paper's kNN relation is directed (k in kNN(j) does not imply j in kNN(k)). When true
-  // (default) W is symmetrised with max, i.e. the union of both directions; the weight 1 + cos is
-  // itself symmetric, so max only adds the missing direction. Why: a directed kNN edge flips when
-  // one nearby object is missing or added in the other scan (partial overlap), whereas the union
-  // graph changes less; a symmetric W also makes the Frobenius term of Eq. 2 count every edge
-  // twice, once per direction, so no direction is privileged. The matchers accept either.
-  bool symmetric = true;
-};
 
 // Cosine similarity of two vectors; 0 when either is the zero vector (no semantic evidence).
 double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,

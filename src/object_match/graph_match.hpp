@@ -24,6 +24,8 @@
 #pragma once
 
 #include <Eigen/Core>
+
+#include "zeroreg/config.hpp"
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -32,38 +34,11 @@
 
 namespace zeroreg {
 
-enum class ObjectMatchSolver {
-  kAuto,   // exact when CountPartialInjections(n, m) <= max_exact_assignments, else approximate
-  kExact,  // branch and bound over all partial injections
-  kApproximate,  // Frank-Wolfe (FAQ) relaxation + Hungarian projection + local search, restarts
-  kNodeOnly,     // ablation "without scene graph": maximise sum (alpha C - tau) by Hungarian only
-};
 
 // "auto", "exact", "approximate", "node_only"; throws InputError for anything else.
 ObjectMatchSolver ObjectMatchSolverFromString(const std::string& name);
 std::string ToString(ObjectMatchSolver solver);
 
-struct ObjectMatchConfig {
-  ObjectMatchSolver solver = ObjectMatchSolver::kAuto;
-  // alpha: weight of the node term <C, X>. 1 as in Eq. 2.
-  double node_weight = 1.0;
-  // tau: cost of each matched pair (same units as E). 1 makes the unary term cos(s_j, s_k), so a
-  // pair of unrelated objects (cos <= 0) is never matched without structural support. 0 is Eq. 2.
-  double match_cost = 1.0;
-  // beta: weight of ||X W^q X^T||_F^2, the part of the Frobenius term that charges target edges
-  // between matched nodes (see above). 1 is Eq. 2; 0 leaves only the edge agreement
-  // 2 <W^p, X W^q X^T> (Koopmans-Beckmann QAP). Must be >= 0.
-  double target_edge_weight = 1.0;
-  // kAuto uses the exact solver up to this many partial injections (the leaves of its search
-  // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
-  // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
-  std::uint64_t max_exact_assignments = 2000000;
-  // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
-  // seeded random interior points) and Frank-Wolfe iterations per start.
-  int restarts = 6;
-  int iterations = 60;
-  std::uint64_t seed = 0;  // random starts of the approximate solver
-};
 
 struct ObjectPair {
   int source = -1;               // row of W^p / C

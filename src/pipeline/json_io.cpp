@@ -1,6 +1,7 @@
 #include <fstream>
 #include <set>
 
+#include "object_match/graph_match.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 
@@ -9,107 +10,181 @@ namespace {
 
 using nlohmann::json;
 
-// Reads the fields of one config section. Each Field call consumes a key; Finish() reports any
-// key that no field consumed.
-class SectionReader {
+// Every config field is listed once, here; the JSON writer and reader both walk these lists, so
+// the two can never disagree. Keys are the struct field names (docs/CONFIG.md).
+template <typename V>
+void Visit(V& v, FeatureConfig& c) {
+  v("backend", c.backend);
+  v("max_keypoints", c.max_keypoints);
+  v("xfeat_detection_threshold", c.xfeat_detection_threshold);
+  v("sift_contrast_threshold", c.sift_contrast_threshold);
+}
+template <typename V>
+void Visit(V& v, SinkhornConfig& c) {
+  v("iterations", c.iterations);
+  v("temperature", c.temperature);
+  v("dustbin_score", c.dustbin_score);
+  v("min_probability", c.min_probability);
+  v("mutual", c.mutual);
+}
+template <typename V>
+void Visit(V& v, MatchConfig& c) {
+  v("method", c.method);
+  v("min_cosine", c.min_cosine);
+  v.Section("sinkhorn", c.sinkhorn);
+}
+template <typename V>
+void Visit(V& v, LiftConfig& c) {
+  v("min_depth_m", c.min_depth_m);
+  v("max_depth_m", c.max_depth_m);
+  v("depth_edge_radius_px", c.depth_edge_radius_px);
+  v("depth_edge_relative", c.depth_edge_relative);
+}
+template <typename V>
+void Visit(V& v, RansacConfig& c) {
+  v("inlier_threshold_m", c.inlier_threshold_m);
+  v("max_iterations", c.max_iterations);
+  v("confidence", c.confidence);
+  v("min_inliers", c.min_inliers);
+  v("min_inlier_ratio", c.min_inlier_ratio);
+}
+template <typename V>
+void Visit(V& v, ObjectsConfig& c) {
+  v("min_views", c.min_views);
+  v("pixel_stride", c.pixel_stride);
+  v("min_points", c.min_points);
+  v("association_min_overlap", c.association_min_overlap);
+  v("association_voxel_m", c.association_voxel_m);
+  v("compatible_label_cosine", c.compatible_label_cosine);
+  v("point_voxel_m", c.point_voxel_m);
+}
+template <typename V>
+void Visit(V& v, SceneGraphConfig& c) {
+  v("knn", c.knn);
+  v("symmetric", c.symmetric);
+}
+template <typename V>
+void Visit(V& v, ObjectMatchConfig& c) {
+  v("solver", c.solver);
+  v("node_weight", c.node_weight);
+  v("match_cost", c.match_cost);
+  v("target_edge_weight", c.target_edge_weight);
+  v("max_exact_assignments", c.max_exact_assignments);
+  v("restarts", c.restarts);
+  v("iterations", c.iterations);
+}
+template <typename V>
+void Visit(V& v, MethodConfig& c) {
+  v("object_level", c.object_level);
+  v("scene_graph", c.scene_graph);
+  v("clip", c.clip);
+  v("label_mask_in_solve", c.label_mask_in_solve);
+  v("min_object_matches", c.min_object_matches);
+  v("min_object_correspondences", c.min_object_correspondences);
+}
+template <typename V>
+void Visit(V& v, PipelineConfig& c) {
+  v.Section("method", c.method);
+  v.Section("features", c.features);
+  v.Section("match", c.match);
+  v.Section("lift", c.lift);
+  v.Section("objects", c.objects);
+  v.Section("scene_graph", c.scene_graph);
+  v.Section("object_match", c.object_match);
+  v.Section("ransac", c.ransac);
+  v("seed", c.seed);
+  v("assets_dir", c.assets_dir);
+}
+
+class JsonWriter {
  public:
-  SectionReader(const json& section, std::string where)
-      : section_(section), where_(std::move(where)) {
-    if (!section_.is_object()) throw MakeInputError(where_, "expected a JSON object");
+  explicit JsonWriter(json* out) : out_(out) {}
+  template <typename T>
+  void operator()(const char* key, T& value) {
+    (*out_)[key] = value;
+  }
+  void operator()(const char* key, ObjectMatchSolver& value) { (*out_)[key] = ToString(value); }
+  template <typename S>
+  void Section(const char* key, S& section) {
+    json child = json::object();
+    JsonWriter writer(&child);
+    Visit(writer, section);
+    (*out_)[key] = child;
+  }
+
+ private:
+  json* out_;
+};
+
+// Reads the keys present in a JSON object into the fields; keys no field claims are an error.
+class JsonReader {
+ public:
+  JsonReader(const json& in, std::string where) : in_(in), where_(std::move(where)) {
+    if (!in_.is_object()) throw MakeInputError(where_, "expected a JSON object");
   }
   template <typename T>
-  SectionReader& Field(const char* key, T* value) {
-    seen_.insert(key);
-    auto it = section_.find(key);
-    if (it == section_.end()) return *this;
-    try {
-      *value = it->get<T>();
-    } catch (const json::exception& e) {
-      throw MakeInputError(where_ + "." + key, std::string("wrong value type (") + e.what() + ")");
+  void operator()(const char* key, T& value) {
+    if (const json* j = Claim(key)) {
+      try {
+        value = j->get<T>();
+      } catch (const json::exception& e) {
+        throw MakeInputError(where_ + "." + key,
+                             std::string("wrong value type (") + e.what() + ")");
+      }
     }
-    return *this;
   }
-  const json* Section(const char* key) {
-    seen_.insert(key);
-    auto it = section_.find(key);
-    return it == section_.end() ? nullptr : &*it;
+  void operator()(const char* key, ObjectMatchSolver& value) {
+    std::string name = ToString(value);
+    (*this)(key, name);
+    try {
+      value = ObjectMatchSolverFromString(name);
+    } catch (const std::exception& e) {
+      throw MakeInputError(where_ + "." + key, e.what());
+    }
+  }
+  template <typename S>
+  void Section(const char* key, S& section) {
+    if (const json* j = Claim(key)) {
+      JsonReader reader(*j, where_ + "." + key);
+      Visit(reader, section);
+      reader.Finish();
+    }
   }
   void Finish() const {
-    for (auto it = section_.begin(); it != section_.end(); ++it) {
-      if (!seen_.count(it.key())) {
+    for (auto it = in_.begin(); it != in_.end(); ++it) {
+      if (!claimed_.count(it.key())) {
         std::string known;
-        for (const std::string& k : seen_) known += (known.empty() ? "" : ", ") + k;
+        for (const std::string& k : claimed_) known += (known.empty() ? "" : ", ") + k;
         throw MakeInputError(where_, "unknown key '" + it.key() + "'; known keys: " + known);
       }
     }
   }
 
  private:
-  const json& section_;
+  const json* Claim(const char* key) {
+    claimed_.insert(key);
+    auto it = in_.find(key);
+    return it == in_.end() ? nullptr : &*it;
+  }
+  const json& in_;
   std::string where_;
-  std::set<std::string> seen_;
+  std::set<std::string> claimed_;
 };
 
 }  // namespace
 
-json ConfigToJson(const PipelineConfig& c) {
-  return json{
-      {"features",
-       {{"backend", c.features.backend},
-        {"max_keypoints", c.features.max_keypoints},
-        {"xfeat_detection_threshold", c.features.xfeat_detection_threshold},
-        {"sift_contrast_threshold", c.features.sift_contrast_threshold}}},
-      {"match", {{"method", c.match.method}, {"min_cosine", c.match.min_cosine}}},
-      {"lift",
-       {{"min_depth_m", c.lift.min_depth_m},
-        {"max_depth_m", c.lift.max_depth_m},
-        {"depth_edge_radius_px", c.lift.depth_edge_radius_px},
-        {"depth_edge_relative", c.lift.depth_edge_relative}}},
-      {"ransac",
-       {{"inlier_threshold_m", c.ransac.inlier_threshold_m},
-        {"max_iterations", c.ransac.max_iterations},
-        {"confidence", c.ransac.confidence},
-        {"min_inliers", c.ransac.min_inliers},
-        {"min_inlier_ratio", c.ransac.min_inlier_ratio}}},
-      {"seed", c.seed},
-      {"assets_dir", c.assets_dir},
-  };
+json ConfigToJson(const PipelineConfig& config) {
+  PipelineConfig copy = config;
+  json out = json::object();
+  JsonWriter writer(&out);
+  Visit(writer, copy);
+  return out;
 }
 
 void ApplyConfigJson(const json& j, const std::string& where, PipelineConfig* c) {
-  SectionReader root(j, where);
-  if (const json* s = root.Section("features")) {
-    SectionReader(*s, where + ": features")
-        .Field("backend", &c->features.backend)
-        .Field("max_keypoints", &c->features.max_keypoints)
-        .Field("xfeat_detection_threshold", &c->features.xfeat_detection_threshold)
-        .Field("sift_contrast_threshold", &c->features.sift_contrast_threshold)
-        .Finish();
-  }
-  if (const json* s = root.Section("match")) {
-    SectionReader(*s, where + ": match")
-        .Field("method", &c->match.method)
-        .Field("min_cosine", &c->match.min_cosine)
-        .Finish();
-  }
-  if (const json* s = root.Section("lift")) {
-    SectionReader(*s, where + ": lift")
-        .Field("min_depth_m", &c->lift.min_depth_m)
-        .Field("max_depth_m", &c->lift.max_depth_m)
-        .Field("depth_edge_radius_px", &c->lift.depth_edge_radius_px)
-        .Field("depth_edge_relative", &c->lift.depth_edge_relative)
-        .Finish();
-  }
-  if (const json* s = root.Section("ransac")) {
-    SectionReader(*s, where + ": ransac")
-        .Field("inlier_threshold_m", &c->ransac.inlier_threshold_m)
-        .Field("max_iterations", &c->ransac.max_iterations)
-        .Field("confidence", &c->ransac.confidence)
-        .Field("min_inliers", &c->ransac.min_inliers)
-        .Field("min_inlier_ratio", &c->ransac.min_inlier_ratio)
-        .Finish();
-  }
-  root.Field("seed", &c->seed).Field("assets_dir", &c->assets_dir).Finish();
+  JsonReader reader(j, where);
+  Visit(reader, *c);
+  reader.Finish();
   if (c->features.max_keypoints <= 0) {
     throw MakeInputError(where + ": features.max_keypoints", "must be positive");
   }
@@ -118,6 +193,10 @@ void ApplyConfigJson(const json& j, const std::string& where, PipelineConfig* c)
   }
   if (!(c->ransac.confidence > 0 && c->ransac.confidence < 1)) {
     throw MakeInputError(where + ": ransac.confidence", "must be in (0, 1)");
+  }
+  if (c->scene_graph.knn < 1) throw MakeInputError(where + ": scene_graph.knn", "must be >= 1");
+  if (c->objects.pixel_stride < 1) {
+    throw MakeInputError(where + ": objects.pixel_stride", "must be >= 1 (pixels)");
   }
 }
 

@@ -39,6 +39,9 @@ class MutualNearestNeighbourMatcher : public DescriptorMatcher {
   double min_cosine_;
 };
 
+// Sinkhorn with a dustbin (Eq. 3-4), mutual best matches above a probability (sinkhorn.hpp).
+std::unique_ptr<DescriptorMatcher> MakeSinkhornMatcher(const SinkhornConfig& config);
+
 // Builds the matcher named by config.method; throws InputError for an unknown name.
 std::unique_ptr<DescriptorMatcher> MakeDescriptorMatcher(const MatchConfig& config);
 

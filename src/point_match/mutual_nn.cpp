@@ -26,8 +26,9 @@ std::unique_ptr<DescriptorMatcher> MakeDescriptorMatcher(const MatchConfig& conf
   if (config.method == "mutual_nn") {
     return std::make_unique<MutualNearestNeighbourMatcher>(config.min_cosine);
   }
-  throw MakeInputError("match.method",
-                       "unknown matcher '" + config.method + "'; expected \"mutual_nn\"");
+  if (config.method == "sinkhorn") return MakeSinkhornMatcher(config.sinkhorn);
+  throw MakeInputError("match.method", "unknown matcher '" + config.method +
+                                           "'; expected \"sinkhorn\" or \"mutual_nn\"");
 }
 
 }  // namespace zeroreg

@@ -12,29 +12,12 @@
 #pragma once
 
 #include <Eigen/Core>
+
+#include "zeroreg/config.hpp"
 #include <vector>
 
 namespace zeroreg {
 
-struct SinkhornConfig {
-  int iterations = 20;  // paper: 20 Sinkhorn iterations
-  // T, in cosine-similarity units. Dividing S by T turns cosines in [-1, 1] into logits in
-  // [-1/T, 1/T]; Sinkhorn on S/T maximises <P, S> + T H(P), so T is the entropic regularisation:
-  // small T approaches the hard optimal assignment, large T spreads probability. 0.1 is the usual
-  // dual-softmax temperature for L2-normalised descriptors (LoFTR, XFeat's matcher).
-  double temperature = 0.1;
-  // z of Eq. 4, in logit units, i.e. the dustbin entries are z and NOT divided by T. The paper's
-  // z = 1 comes from SuperGlue, where the bin score is a logit compared with unnormalised scores.
-  // Read on the raw cosine scale (z / T = 10) the dustbin would tie with a perfect match (cos = 1)
-  // and take about half of every point's mass; in logit units a match competes with the dustbin
-  // once its cosine exceeds z * T = 0.1.
-  double dustbin_score = 1.0;
-  // A match is kept when P_ij is at least this (P_ij is a probability: real rows sum to 1).
-  double min_probability = 0.2;
-  // Keep (i, j) only when j is i's best target and i is j's best source (dustbin excluded from
-  // both argmaxes, as in SuperGlue). When false, every source keeps its best target.
-  bool mutual = true;
-};
 
 struct SinkhornMatch {
   int source = -1;           // row of G_P
