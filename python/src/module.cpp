@@ -22,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "eval/metrics.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -548,6 +549,38 @@ py::array_t<T> CorrespondenceColumn(const RegistrationResult& r, py::ssize_t col
   return out;
 }
 
+// Objects as plain dicts of numbers and arrays (they are few; dicts print and serialise easily).
+py::dict ObjectToPython(const ObjectSummary& o) {
+  py::list views;
+  for (const ObjectView& v : o.views) {
+    py::array_t<std::int32_t> outline({static_cast<py::ssize_t>(v.outline.size()), py::ssize_t{2}});
+    auto w = outline.mutable_unchecked<2>();
+    for (size_t i = 0; i < v.outline.size(); ++i) {
+      w(i, 0) = v.outline[i].x;
+      w(i, 1) = v.outline[i].y;
+    }
+    py::dict d;
+    d["view"] = v.view;
+    d["box"] = py::make_tuple(v.box.x, v.box.y, v.box.width, v.box.height);
+    d["score"] = v.score;
+    d["outline"] = outline;
+    views.append(d);
+  }
+  py::dict d;
+  d["label"] = o.label;
+  d["score"] = o.score;
+  d["centroid"] = PointsToNumpy({o.centroid}).attr("reshape")(3);
+  d["num_points"] = o.num_points;
+  d["views"] = views;
+  return d;
+}
+
+py::list ObjectsToPython(const std::vector<ObjectSummary>& objects) {
+  py::list out;
+  for (const ObjectSummary& o : objects) out.append(ObjectToPython(o));
+  return out;
+}
+
 py::dict Counts(const RegistrationResult& r) {
   py::dict d;
   d["keypoints_source"] = r.num_keypoints_source;
@@ -652,6 +685,34 @@ void BindResult(py::module_& m) {
           },
           "(N,) bool, RANSAC inlier mask under T_target_source.")
       .def_property_readonly(
+          "source_objects",
+          [](const RegistrationResult& r) { return ObjectsToPython(r.source_objects); },
+          "Objects found in the source scan (paper §3.2), each a dict: label, score, centroid "
+          "((3,) float64, scan frame, metres), num_points, views (list of dicts: view, box "
+          "(x, y, width, height) in pixels, score, outline ((K, 2) int32 pixels)). Empty when the "
+          "object path did not run.")
+      .def_property_readonly(
+          "target_objects",
+          [](const RegistrationResult& r) { return ObjectsToPython(r.target_objects); },
+          "Objects found in the target scan, as source_objects.")
+      .def_property_readonly(
+          "object_matches",
+          [](const RegistrationResult& r) {
+            py::list out;
+            for (const ObjectMatchSummary& match : r.object_matches) {
+              py::dict d;
+              d["source"] = match.source;
+              d["target"] = match.target;
+              d["node_similarity"] = match.node_similarity;
+              d["num_correspondences"] = match.num_correspondences;
+              out.append(d);
+            }
+            return out;
+          },
+          "Matched object pairs (paper §3.3, Eq. 2), each a dict: source and target (indices into "
+          "source_objects / target_objects), node_similarity (C = 1 + cosine of the semantic "
+          "features), num_correspondences (point correspondences found inside the pair).")
+      .def_property_readonly(
           "timings",
           [](const RegistrationResult& r) {
             py::dict d;  // insertion order = pipeline order, "total" last
@@ -727,6 +788,21 @@ PYBIND11_MODULE(_zeroreg, m) {
         return out;
       },
       py::arg("path"));
+
+  // The CLI's error measures (rotation with the ground truth orthonormalised first, because
+  // dataset rotations are not exactly orthonormal).
+  m.def(
+      "rotation_error_deg",
+      [](const py::object& T, const py::object& T_gt) {
+        return RotationErrorDeg(RequireRigid(T, "T"), RequireRigid(T_gt, "T_gt"));
+      },
+      py::arg("T"), py::arg("T_gt"));
+  m.def(
+      "translation_error_m",
+      [](const py::object& T, const py::object& T_gt) {
+        return TranslationErrorM(RequireRigid(T, "T"), RequireRigid(T_gt, "T_gt"));
+      },
+      py::arg("T"), py::arg("T_gt"));
 
   m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
 }

@@ -46,15 +46,6 @@ def frame_view_dict(n, T_scan_camera=None):
     return view
 
 
-def rotation_error_deg(T, T_gt):
-    R = T[:3, :3].T @ T_gt[:3, :3]
-    return np.degrees(np.arccos(np.clip((np.trace(R) - 1) / 2, -1, 1)))
-
-
-def translation_error_m(T, T_gt):
-    return np.linalg.norm(T[:3, 3] - T_gt[:3, 3])
-
-
 @pytest.fixture(scope="session")
 def pipeline():
     """Default pipeline (XFeat), models loaded once for all tests."""

@@ -10,21 +10,15 @@ import json
 import numpy as np
 import pytest
 import zeroreg
-from conftest import (
-    frame_pose,
-    frame_spec,
-    frame_view_dict,
-    rotation_error_deg,
-    translation_error_m,
-)
+from conftest import frame_file, frame_pose, frame_spec, frame_view_dict
 
 
 def assert_close_to_gt(result, T_gt):
     assert result.valid, result.reason
     T = result.T_target_source
     assert T.shape == (4, 4) and T.dtype == np.float64
-    assert rotation_error_deg(T, T_gt) < 5.0
-    assert translation_error_m(T, T_gt) < 0.10
+    assert zeroreg.rotation_error_deg(T, T_gt) < 5.0
+    assert zeroreg.translation_error_m(T, T_gt) < 0.10
 
 
 def test_paths_land_on_ground_truth(result_20_0_from_paths, gt_20_0):
@@ -61,8 +55,6 @@ def test_load_scan_round_trip_with_float_metres(pipeline, result_20_0_from_paths
     np.testing.assert_array_equal(view.intrinsics, [[585, 0, 320], [0, 585, 240], [0, 0, 1]])
     np.testing.assert_array_equal(view.T_scan_camera, np.eye(4))
     # Loaded colour is RGB: equal to read_color of the same file.
-    from conftest import frame_file
-
     np.testing.assert_array_equal(view.color, zeroreg.read_color(frame_file(20, "color.jpg")))
     # Depth is raw / 1000 with 0 and 65535 invalid.
     raw = zeroreg.read_depth(frame_file(20, "depth.png"))
@@ -177,3 +169,30 @@ def test_config_file_path(tmp_path):
     path.write_text(json.dumps({"features": {"backend": "sift"}, "seed": 3}))
     p = zeroreg.Pipeline(path)
     assert p.config["features"]["backend"] == "sift" and p.config["seed"] == 3
+
+
+def test_error_measures_on_exact_transforms():
+    angle = np.radians(10.0)
+    T_gt = np.eye(4)
+    T = np.eye(4)
+    T[:3, :3] = [[np.cos(angle), -np.sin(angle), 0], [np.sin(angle), np.cos(angle), 0], [0, 0, 1]]
+    T[:3, 3] = [0.03, 0.0, 0.04]
+    assert zeroreg.rotation_error_deg(T, T_gt) == pytest.approx(10.0, abs=1e-9)
+    assert zeroreg.translation_error_m(T, T_gt) == pytest.approx(0.05, abs=1e-12)
+    with pytest.raises(ValueError, match=r"^T_gt: element \[0, 0\] is NaN"):
+        zeroreg.rotation_error_deg(T, np.full((4, 4), np.nan))
+
+
+def test_objects_and_matches_are_consistent(result_20_0_from_paths):
+    # Object lists are empty when the pipeline ran the image path only; whatever is there must be
+    # well formed and the matches must index into the object lists.
+    r = result_20_0_from_paths
+    for objects in (r.source_objects, r.target_objects):
+        assert isinstance(objects, list)
+        for o in objects:
+            assert isinstance(o["label"], str) and o["centroid"].shape == (3,)
+            for v in o["views"]:
+                assert len(v["box"]) == 4 and v["outline"].shape[1:] == (2,)
+    for m in r.object_matches:
+        assert 0 <= m["source"] < len(r.source_objects)
+        assert 0 <= m["target"] < len(r.target_objects)

@@ -20,7 +20,14 @@ from typing import Any, List, Optional, Union
 import numpy as np
 
 from . import _zeroreg
-from ._zeroreg import Result, default_config, read_color, read_depth
+from ._zeroreg import (
+    Result,
+    default_config,
+    read_color,
+    read_depth,
+    rotation_error_deg,
+    translation_error_m,
+)
 
 __all__ = [
     "Pipeline",
@@ -32,6 +39,8 @@ __all__ = [
     "read_color",
     "read_depth",
     "register",
+    "rotation_error_deg",
+    "translation_error_m",
 ]
 
 
