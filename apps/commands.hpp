@@ -17,5 +17,6 @@ using Runner = std::function<int()>;
 Runner AddRegisterCommand(CLI::App& app);
 Runner AddFuseCommand(CLI::App& app);
 Runner AddInfoCommand(CLI::App& app);
+Runner AddEvalCommand(CLI::App& app);
 
 }  // namespace zeroreg::cli

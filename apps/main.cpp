@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   add("register", AddRegisterCommand, "estimate T_target_source between two scans");
   add("fuse", AddFuseCommand, "TSDF-fuse frames into a 3DMatch-style fragment (cached)");
   add("info", AddInfoCommand, "show the effective config, assets and a scan's contents");
+  add("eval", AddEvalCommand, "evaluate on 3DMatch/3DLoMatch or frame pairs, with baselines");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

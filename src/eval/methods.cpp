@@ -1,0 +1,201 @@
+#include "eval/methods.hpp"
+
+#include <open3d/geometry/KDTreeFlann.h>
+#include <open3d/geometry/KDTreeSearchParam.h>
+#include <open3d/geometry/PointCloud.h>
+#include <open3d/pipelines/registration/CorrespondenceChecker.h>
+#include <open3d/pipelines/registration/Feature.h>
+#include <open3d/pipelines/registration/Registration.h>
+#include <open3d/utility/Random.h>
+
+#include <mutex>
+#include <sstream>
+
+#include "zeroreg/error.hpp"
+#include "zeroreg/json.hpp"
+#include "zeroreg/register.hpp"
+
+namespace zeroreg {
+namespace {
+
+namespace reg = open3d::pipelines::registration;
+
+class ZeroregMethod : public PairMethod {
+ public:
+  ZeroregMethod(const PipelineConfig& config, bool require_image_path)
+      : pipeline_(config), require_image_path_(require_image_path) {}
+
+  MethodOutput Run(const Scan& source, const Scan& target) override {
+    RegistrationResult r = pipeline_.Register(source, target);
+    if (require_image_path_ && r.path != "image") {
+      // A stale ImagePathOverrides() would silently evaluate the wrong method.
+      throw std::logic_error("--method image: the pipeline used the '" + r.path +
+                             "' path; update ImagePathOverrides() in src/eval/methods.cpp");
+    }
+    MethodOutput out;
+    out.T_target_source = r.T_target_source;
+    out.valid = r.valid;
+    out.reason = r.reason;
+    out.correspondences = std::move(r.correspondences);
+    out.num_inliers = r.num_inliers;
+    return out;
+  }
+
+ private:
+  Pipeline pipeline_;
+  bool require_image_path_;
+};
+
+// Open3D's RNG is one global engine: seeding it and running RANSAC must not interleave with
+// another runner thread's RANSAC, or neither result would depend on its seed alone.
+std::mutex& Open3dRandomMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+class FpfhMethod : public PairMethod {
+ public:
+  explicit FpfhMethod(const FpfhConfig& config) : c_(config) {}
+
+  MethodOutput Run(const Scan& source, const Scan& target) override {
+    const auto src = Prepare(source);
+    const auto tgt = Prepare(target);
+    MethodOutput out;
+    if (src.cloud->points_.size() < 3 || tgt.cloud->points_.size() < 3) {
+      out.reason = "fewer than 3 points after voxel down-sampling";
+      return out;
+    }
+    // The putative correspondences RANSAC samples from (mutual filter off): each source point
+    // with its nearest target point in FPFH space. Kept for the inlier ratio under the GT pose.
+    open3d::geometry::KDTreeFlann feature_tree(*tgt.feature);
+    std::vector<int> index(1);
+    std::vector<double> distance2(1);
+    for (size_t s = 0; s < src.cloud->points_.size(); ++s) {
+      const Eigen::VectorXd query = src.feature->data_.col(static_cast<Eigen::Index>(s));
+      if (feature_tree.SearchKNN(query, 1, index, distance2) < 1) continue;
+      Correspondence c;
+      c.source = src.cloud->points_[s];
+      c.target = tgt.cloud->points_[index[0]];
+      out.correspondences.push_back(c);
+    }
+
+    const double distance = c_.distance_voxels * c_.voxel_m;
+    reg::CorrespondenceCheckerBasedOnEdgeLength edge_checker(c_.edge_length_similarity);
+    reg::CorrespondenceCheckerBasedOnDistance distance_checker(distance);
+    reg::RegistrationResult result;
+    {
+      std::lock_guard<std::mutex> lock(Open3dRandomMutex());
+      open3d::utility::random::Seed(static_cast<int>(c_.seed & 0x7fffffff));
+      result = reg::RegistrationRANSACBasedOnFeatureMatching(
+          *src.cloud, *tgt.cloud, *src.feature, *tgt.feature, c_.mutual_filter, distance,
+          reg::TransformationEstimationPointToPoint(false), /*ransac_n=*/3,
+          {edge_checker, distance_checker},
+          reg::RANSACConvergenceCriteria(c_.max_iterations, c_.confidence));
+    }
+    out.T_target_source = result.transformation_;
+    out.num_inliers = static_cast<int>(result.correspondence_set_.size());
+    out.valid = result.fitness_ > 0 && out.num_inliers >= 3;
+    std::ostringstream why;
+    if (out.valid) {
+      why << "fitness " << result.fitness_ << ", " << out.num_inliers << " of "
+          << src.cloud->points_.size() << " source points within " << distance << " m";
+    } else {
+      why << "RANSAC found no hypothesis passing the checkers";
+    }
+    out.reason = why.str();
+    return out;
+  }
+
+ private:
+  struct Prepared {
+    std::shared_ptr<open3d::geometry::PointCloud> cloud;
+    std::shared_ptr<reg::Feature> feature;
+  };
+
+  Prepared Prepare(const Scan& scan) const {
+    open3d::geometry::PointCloud full;
+    full.points_ = ScanGeometry(scan, c_.min_depth_m, c_.max_depth_m);
+    Prepared p;
+    p.cloud = full.VoxelDownSample(c_.voxel_m);
+    p.cloud->EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(
+        c_.normal_radius_voxels * c_.voxel_m, c_.normal_max_nn));
+    p.feature = reg::ComputeFPFHFeature(
+        *p.cloud, open3d::geometry::KDTreeSearchParamHybrid(c_.feature_radius_voxels * c_.voxel_m,
+                                                            c_.feature_max_nn));
+    return p;
+  }
+
+  FpfhConfig c_;
+};
+
+}  // namespace
+
+nlohmann::json FpfhConfigToJson(const FpfhConfig& c) {
+  return {{"voxel_m", c.voxel_m},
+          {"normal_radius_voxels", c.normal_radius_voxels},
+          {"normal_max_nn", c.normal_max_nn},
+          {"feature_radius_voxels", c.feature_radius_voxels},
+          {"feature_max_nn", c.feature_max_nn},
+          {"mutual_filter", c.mutual_filter},
+          {"distance_voxels", c.distance_voxels},
+          {"edge_length_similarity", c.edge_length_similarity},
+          {"max_iterations", c.max_iterations},
+          {"confidence", c.confidence},
+          {"min_depth_m", c.min_depth_m},
+          {"max_depth_m", c.max_depth_m},
+          {"seed", c.seed}};
+}
+
+std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m,
+                                          double max_depth_m) {
+  if (!scan.points.empty()) return scan.points;
+  std::vector<Eigen::Vector3d> points;
+  for (const View& v : scan.views) {
+    const Intrinsics& K = v.intrinsics;
+    const Eigen::Matrix3d R = v.T_scan_camera.topLeftCorner<3, 3>();
+    const Eigen::Vector3d t = v.T_scan_camera.topRightCorner<3, 1>();
+    for (int y = 0; y < v.depth.rows; ++y) {
+      const float* row = v.depth.ptr<float>(y);
+      for (int x = 0; x < v.depth.cols; ++x) {
+        const double z = row[x];
+        if (!(z >= min_depth_m && z <= max_depth_m)) continue;
+        const Eigen::Vector3d p((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z);
+        points.push_back(R * p + t);
+      }
+    }
+  }
+  return points;
+}
+
+std::vector<std::string> ImagePathOverrides() { return {}; }
+
+PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig config) {
+  if (method == "image") {
+    for (const std::string& o : ImagePathOverrides()) ApplyConfigOverride(o, &config);
+  }
+  return config;
+}
+
+void CheckMethodName(const std::string& method) {
+  if (method != "zeroreg" && method != "image" && method != "fpfh") {
+    throw MakeInputError("--method " + method, "unknown method; expected zeroreg, image or fpfh");
+  }
+}
+
+MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
+                                const FpfhConfig& fpfh) {
+  CheckMethodName(method);
+  if (method == "fpfh") {
+    return [fpfh]() -> std::unique_ptr<PairMethod> { return std::make_unique<FpfhMethod>(fpfh); };
+  }
+  const PipelineConfig effective = MethodPipelineConfig(method, config);
+  const bool image = method == "image";
+  // Build one pipeline now so that a bad config or a missing model is reported before any
+  // thread starts (and before fragments are fused).
+  { const Pipeline check(effective); }
+  return [effective, image]() -> std::unique_ptr<PairMethod> {
+    return std::make_unique<ZeroregMethod>(effective, image);
+  };
+}
+
+}  // namespace zeroreg

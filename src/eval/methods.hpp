@@ -1,0 +1,74 @@
+// The registration methods the evaluation runner compares, behind one small interface. Each
+// runner thread builds its own instance (a Pipeline holds per-instance model state).
+//
+//   zeroreg  zeroreg::Pipeline with the given PipelineConfig (whatever path it defaults to; the
+//            ablations are config overrides, see scripts/bench-ablation.sh)
+//   image    the same Pipeline forced onto its whole-image feature path (paper Table 4 row (a),
+//            "w/o object level"): the config overrides of ImagePathOverrides() are applied and
+//            every result is checked to come from the "image" path
+//   fpfh     Open3D FPFH + RANSAC with the usual 3DMatch settings (FpfhConfig)
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "eval/records.hpp"
+#include "zeroreg/config.hpp"
+#include "zeroreg/types.hpp"
+
+namespace zeroreg {
+
+class PairMethod {
+ public:
+  virtual ~PairMethod() = default;
+  virtual MethodOutput Run(const Scan& source, const Scan& target) = 0;
+};
+
+// Open3D 0.16 global registration baseline, settings of the 3DMatch literature (voxel 5 cm).
+struct FpfhConfig {
+  double voxel_m = 0.05;                // voxel down-sampling of both clouds
+  double normal_radius_voxels = 2.0;    // normals: hybrid search radius, in voxels
+  int normal_max_nn = 30;               // normals: at most this many neighbours
+  double feature_radius_voxels = 5.0;   // FPFH: hybrid search radius, in voxels
+  int feature_max_nn = 100;             // FPFH: at most this many neighbours
+  bool mutual_filter = false;           // RANSAC on feature matching without mutual check
+  double distance_voxels = 1.5;         // RANSAC inlier distance and distance checker, in voxels
+  double edge_length_similarity = 0.9;  // CorrespondenceCheckerBasedOnEdgeLength
+  int max_iterations = 1000000;
+  double confidence = 0.999;
+  // A frame (a scan without a point cloud) is the back-projection of its depth in this range.
+  double min_depth_m = 0.1;
+  double max_depth_m = 6.0;  // same as the fragment fusion's FuseConfig::max_depth_m
+  // Open3D's global RNG is seeded with this before every RANSAC. Its RANSAC draws samples from
+  // several OpenMP threads, so results are reproducible only with OMP_NUM_THREADS=1.
+  std::uint64_t seed = 0;
+};
+nlohmann::json FpfhConfigToJson(const FpfhConfig& config);
+
+// The method's geometry for FPFH: the scan's point cloud, or, when it has none, the
+// back-projection of every view's depth in [min_depth_m, max_depth_m], in the scan frame.
+std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m, double max_depth_m);
+
+// Config overrides ("section.key=value") that select the whole-image feature path of the
+// Pipeline. Empty while that is the Pipeline's only path; the object-level stage adds its switch
+// here when it lands, and --method image fails loudly if a result reports another path.
+std::vector<std::string> ImagePathOverrides();
+
+// The pipeline config a method runs with: `config`, plus ImagePathOverrides() for "image".
+PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig config);
+
+// Known method names: "zeroreg", "image", "fpfh". Throws InputError on anything else.
+void CheckMethodName(const std::string& method);
+
+using MethodFactory = std::function<std::unique_ptr<PairMethod>()>;
+// zeroreg / image run a Pipeline with MethodPipelineConfig(method, config); fpfh uses `fpfh`.
+// Builds one Pipeline at once, so a bad config or missing model throws here. The factory is
+// called once per runner thread.
+MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
+                                const FpfhConfig& fpfh);
+
+}  // namespace zeroreg

@@ -1,0 +1,199 @@
+#include "eval/records.hpp"
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+
+#include "eval/metrics.hpp"
+#include "zeroreg/error.hpp"
+#include "zeroreg/json.hpp"
+
+namespace zeroreg {
+namespace {
+
+using nlohmann::json;
+
+Transform TransformFromJson(const json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 4) {
+    throw MakeInputError(where, "expected a 4x4 matrix as 4 rows of 4 numbers");
+  }
+  Transform T;
+  for (int r = 0; r < 4; ++r) {
+    if (!j[r].is_array() || j[r].size() != 4) {
+      throw MakeInputError(where, "expected a 4x4 matrix as 4 rows of 4 numbers");
+    }
+    for (int c = 0; c < 4; ++c) {
+      if (!j[r][c].is_number()) throw MakeInputError(where, "matrix entry is not a number");
+      T(r, c) = j[r][c].get<double>();
+    }
+  }
+  return T;
+}
+
+template <typename T>
+T Get(const json& j, const char* key, const std::string& where) {
+  if (!j.contains(key)) throw MakeInputError(where, std::string("missing field '") + key + "'");
+  try {
+    return j.at(key).get<T>();
+  } catch (const json::exception&) {
+    throw MakeInputError(where, std::string("field '") + key + "' has the wrong type");
+  }
+}
+
+}  // namespace
+
+std::string PairTask::Key() const {
+  return benchmark + "/" + scene + " " + std::to_string(target_id) + " " +
+         std::to_string(source_id);
+}
+
+Transform RoundLikeLogFile(const Transform& T) {
+  Transform rounded;
+  char text[64];
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      std::snprintf(text, sizeof(text), "%15.8e", T(r, c));
+      rounded(r, c) = std::strtod(text, nullptr);
+    }
+  }
+  return rounded;
+}
+
+PairRecord ScorePair(const PairTask& task, const std::string& method, const MethodOutput& output,
+                     const Transform& T_gt, double time_ms) {
+  PairRecord r;
+  r.key = task.Key();
+  r.benchmark = task.benchmark;
+  r.scene = task.scene;
+  r.method = method;
+  r.target_id = task.target_id;
+  r.source_id = task.source_id;
+  r.log_n = task.log_n;
+  r.consecutive = task.consecutive;
+  r.valid = output.valid;
+  r.reason = output.reason;
+  r.T_est = RoundLikeLogFile(output.T_target_source);
+  r.T_gt = T_gt;
+  r.rotation_error_deg = RotationErrorDeg(r.T_est, T_gt);
+  r.translation_error_m = TranslationErrorM(r.T_est, T_gt);
+  if (task.information) {
+    r.recall_error = RegistrationRecallError(r.T_est, T_gt, *task.information);
+    r.registered = *r.recall_error <= kRecallErrorThreshold;
+  }
+  r.inlier_ratio = CorrespondenceInlierRatio(output.correspondences, T_gt, kInlierDistanceM);
+  r.num_correspondences = static_cast<int>(output.correspondences.size());
+  r.num_inliers = output.num_inliers;
+  r.time_ms = time_ms;
+  return r;
+}
+
+json PairTaskToJson(const PairTask& t) {
+  return {{"key", t.Key()},        {"benchmark", t.benchmark}, {"scene", t.scene},
+          {"target", t.target_id}, {"source", t.source_id},    {"consecutive", t.consecutive}};
+}
+
+PairTask PairTaskFromJson(const json& j, const std::string& where) {
+  if (!j.is_object()) throw MakeInputError(where, "expected a pair object");
+  PairTask t;
+  t.benchmark = Get<std::string>(j, "benchmark", where);
+  t.scene = Get<std::string>(j, "scene", where);
+  t.target_id = Get<int>(j, "target", where);
+  t.source_id = Get<int>(j, "source", where);
+  t.consecutive = Get<bool>(j, "consecutive", where);
+  return t;
+}
+
+json PairRecordToJson(const PairRecord& r) {
+  json j{{"key", r.key},
+         {"benchmark", r.benchmark},
+         {"scene", r.scene},
+         {"target", r.target_id},
+         {"source", r.source_id},
+         {"log_n", r.log_n},
+         {"consecutive", r.consecutive},
+         {"method", r.method},
+         {"valid", r.valid},
+         {"reason", r.reason},
+         {"T_est", TransformToJson(r.T_est)},
+         {"T_gt", TransformToJson(r.T_gt)},
+         {"rotation_error_deg", r.rotation_error_deg},
+         {"translation_error_m", r.translation_error_m},
+         {"registered", r.registered},
+         {"inlier_ratio", r.inlier_ratio},
+         {"num_correspondences", r.num_correspondences},
+         {"num_inliers", r.num_inliers},
+         {"time_ms", r.time_ms}};
+  if (r.recall_error) j["recall_error"] = *r.recall_error;
+  if (!r.error.empty()) j["error"] = r.error;
+  return j;
+}
+
+PairRecord PairRecordFromJson(const json& j, const std::string& where) {
+  if (!j.is_object()) throw MakeInputError(where, "expected a JSON object per line");
+  PairRecord r;
+  r.key = Get<std::string>(j, "key", where);
+  r.benchmark = Get<std::string>(j, "benchmark", where);
+  r.scene = Get<std::string>(j, "scene", where);
+  r.target_id = Get<int>(j, "target", where);
+  r.source_id = Get<int>(j, "source", where);
+  r.log_n = Get<int>(j, "log_n", where);
+  r.consecutive = Get<bool>(j, "consecutive", where);
+  r.method = Get<std::string>(j, "method", where);
+  r.valid = Get<bool>(j, "valid", where);
+  r.reason = Get<std::string>(j, "reason", where);
+  if (j.contains("error")) r.error = Get<std::string>(j, "error", where);
+  r.T_est = TransformFromJson(j.value("T_est", json()), where + " T_est");
+  r.T_gt = TransformFromJson(j.value("T_gt", json()), where + " T_gt");
+  r.rotation_error_deg = Get<double>(j, "rotation_error_deg", where);
+  r.translation_error_m = Get<double>(j, "translation_error_m", where);
+  if (j.contains("recall_error")) r.recall_error = Get<double>(j, "recall_error", where);
+  r.registered = Get<bool>(j, "registered", where);
+  r.inlier_ratio = Get<double>(j, "inlier_ratio", where);
+  r.num_correspondences = Get<int>(j, "num_correspondences", where);
+  r.num_inliers = Get<int>(j, "num_inliers", where);
+  r.time_ms = Get<double>(j, "time_ms", where);
+  return r;
+}
+
+std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line) {
+  if (dropped_last_line) *dropped_last_line = false;
+  std::ifstream in(path);
+  if (!in) return {};
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) {
+    if (!line.empty()) lines.push_back(line);
+  }
+  std::vector<PairRecord> records;
+  std::map<std::string, size_t> index;
+  for (size_t n = 0; n < lines.size(); ++n) {
+    const std::string where = path + " line " + std::to_string(n + 1);
+    const json j = json::parse(lines[n], nullptr, /*allow_exceptions=*/false);
+    if (j.is_discarded()) {
+      // Only the last line can be cut short by a killed run; anything else is corruption.
+      if (n + 1 == lines.size()) {
+        if (dropped_last_line) *dropped_last_line = true;
+        break;
+      }
+      throw MakeInputError(where, "is not valid JSON; expected one pair record per line");
+    }
+    PairRecord r = PairRecordFromJson(j, where);
+    const auto it = index.find(r.key);
+    if (it == index.end()) {
+      index[r.key] = records.size();
+      records.push_back(std::move(r));
+    } else {
+      records[it->second] = std::move(r);
+    }
+  }
+  return records;
+}
+
+void WritePairsJsonl(const std::string& path, const std::vector<PairRecord>& records) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out) throw MakeInputError(path, "cannot write the pair results file");
+  for (const PairRecord& r : records) out << PairRecordToJson(r).dump() << "\n";
+  if (!out.flush()) throw MakeInputError(path, "failed writing the pair results file");
+}
+
+}  // namespace zeroreg

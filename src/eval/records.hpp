@@ -1,0 +1,96 @@
+// One evaluated pair: what to register (PairTask) and what came out of it (PairRecord), with the
+// per-pair metrics of DESIGN §6 and their JSON-lines form (`<out>/pairs.jsonl`).
+//
+// Convention (types.hpp): a pair is (target i, source j); the estimate scored is T_target_source,
+// which for 3DMatch is the gt.log entry "i j" = T_i_j (maps fragment j into fragment i).
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "zeroreg/types.hpp"
+
+namespace zeroreg {
+
+using InformationMatrix = Eigen::Matrix<double, 6, 6>;
+
+// 3DMatch success threshold on the registration-recall error E (RMSE 0.2 m, squared).
+constexpr double kRecallErrorThreshold = 0.2 * 0.2;
+// 3DMatch inlier-ratio distance and feature-match-recall threshold.
+constexpr double kInlierDistanceM = 0.1;
+constexpr double kFeatureMatchRecallThreshold = 0.05;
+
+struct PairTask {
+  std::string benchmark;  // "3DMatch", "3DLoMatch" or "frames"
+  std::string scene;      // e.g. "7-scenes-redkitchen"
+  int target_id = 0;      // i: fragment or frame id of the target
+  int source_id = 0;      // j: fragment or frame id of the source
+  // How to load the scans (see ScanLoader in runner.hpp): a scan.json path or DIR@N.
+  std::string target_ref, source_ref;
+  // Ground truth T_target_source: the gt.log entry; for frames, left empty and taken from the
+  // frames' poses when the scans are loaded.
+  std::optional<Transform> T_target_source_gt;
+  std::optional<InformationMatrix> information;  // gt.info entry (3DMatch protocol only)
+  int log_n = 0;             // the "n" of the gt.log header (fragments in the scene)
+  bool consecutive = false;  // 3DMatch j == i + 1: registered but not counted in the recall
+
+  // "benchmark/scene i j", unique within a run; pairs.jsonl is keyed by it.
+  std::string Key() const;
+};
+
+struct PairRecord {
+  std::string key, benchmark, scene, method;
+  int target_id = 0, source_id = 0, log_n = 0;
+  bool consecutive = false;
+  bool valid = false;  // the method's own verdict
+  std::string reason;
+  // Set when the pair could not be run (an exception); such records are re-run on resume.
+  std::string error;
+  // The estimate exactly as est.log stores it (rounded to its 9 significant digits), so that an
+  // independent scorer reading est.log decides every pair the same way.
+  Transform T_est = Transform::Identity();
+  Transform T_gt = Transform::Identity();
+  double rotation_error_deg = 0.0;  // vs the orthonormalised GT rotation
+  double translation_error_m = 0.0;
+  std::optional<double> recall_error;  // 3DMatch E (needs gt.info)
+  bool registered = false;             // recall_error <= kRecallErrorThreshold
+  double inlier_ratio = 0.0;  // the method's correspondences within 0.1 m under the GT pose
+  int num_correspondences = 0;
+  int num_inliers = 0;   // the method's own inliers (RANSAC)
+  double time_ms = 0.0;  // registration only (scan loading excluded)
+};
+
+// Rounds every entry like WriteLogFile's "%15.8e" does.
+Transform RoundLikeLogFile(const Transform& T);
+
+// What a method returns for one pair (see methods.hpp).
+struct MethodOutput {
+  Transform T_target_source = Transform::Identity();
+  bool valid = false;
+  std::string reason;
+  std::vector<Correspondence> correspondences;  // for the inlier ratio under the GT pose
+  int num_inliers = 0;
+};
+
+// Computes the per-pair metrics of DESIGN §6 for `output` against `T_gt`.
+PairRecord ScorePair(const PairTask& task, const std::string& method, const MethodOutput& output,
+                     const Transform& T_gt, double time_ms);
+
+// Identity fields only (key, benchmark, scene, ids, consecutive): what run.json keeps of the
+// selection so that summaries and merges can be recomputed without the data.
+nlohmann::json PairTaskToJson(const PairTask& task);
+PairTask PairTaskFromJson(const nlohmann::json& json, const std::string& where);
+nlohmann::json PairRecordToJson(const PairRecord& record);
+// Throws InputError naming `where` when a field is missing or has the wrong type.
+PairRecord PairRecordFromJson(const nlohmann::json& json, const std::string& where);
+
+// Reads a pairs.jsonl file: one record per line, later lines win for the same key. A missing file
+// gives no records. A truncated last line (a run killed while writing) is ignored and reported in
+// `*dropped_last_line`; any other malformed line throws InputError naming the file and line.
+std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line = nullptr);
+// Rewrites `path` with exactly `records`, one line each.
+void WritePairsJsonl(const std::string& path, const std::vector<PairRecord>& records);
+
+}  // namespace zeroreg

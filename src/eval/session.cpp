@@ -1,0 +1,169 @@
+#include "eval/session.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "eval/summary.hpp"
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr int kFormatVersion = 1;
+
+json ReadJsonFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw MakeInputError(path, "not found; expected a results folder of `zeroreg eval`");
+  json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) throw MakeInputError(path, "is not valid JSON");
+  return j;
+}
+
+void WriteText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::trunc);
+  if (!out || !(out << text) || !out.flush()) throw MakeInputError(path, "cannot write the file");
+}
+
+}  // namespace
+
+json RunInfoToJson(const RunInfo& info) {
+  json tasks = json::array();
+  for (const PairTask& t : info.tasks) tasks.push_back(PairTaskToJson(t));
+  return {{"format_version", kFormatVersion},
+          {"protocol", info.protocol},
+          {"method", info.method},
+          {"settings", info.settings},
+          {"shard", info.shard},
+          {"command", info.command},
+          {"pairs", tasks}};
+}
+
+RunInfo RunInfoFromJson(const json& j, const std::string& where) {
+  if (!j.is_object() || j.value("format_version", 0) != kFormatVersion) {
+    throw MakeInputError(where, "not a run.json of this zeroreg version (format_version " +
+                                    std::to_string(kFormatVersion) + " expected)");
+  }
+  RunInfo info;
+  try {
+    info.protocol = j.at("protocol").get<std::string>();
+    info.method = j.at("method").get<std::string>();
+    info.settings = j.at("settings");
+    info.shard = j.at("shard").get<std::string>();
+    info.command = j.value("command", "");
+    for (const json& t : j.at("pairs")) info.tasks.push_back(PairTaskFromJson(t, where));
+  } catch (const json::exception& e) {
+    throw MakeInputError(where, std::string("malformed run.json: ") + e.what());
+  }
+  return info;
+}
+
+RunInfo ReadRunInfo(const std::string& out_dir) {
+  const std::string path = (fs::path(out_dir) / "run.json").string();
+  return RunInfoFromJson(ReadJsonFile(path), path);
+}
+
+void PrepareOutDir(const std::string& out_dir, const RunInfo& info) {
+  const fs::path path = fs::path(out_dir) / "run.json";
+  if (fs::exists(path)) {
+    const RunInfo old = ReadRunInfo(out_dir);
+    auto differs = [&](const char* what) {
+      return MakeInputError(out_dir, std::string("holds results of a run with another ") + what +
+                                         "; resuming would mix them. Use another --out, or "
+                                         "delete the folder to start over");
+    };
+    if (old.protocol != info.protocol) throw differs("protocol");
+    if (old.method != info.method) throw differs("method");
+    if (old.settings != info.settings) throw differs("config or data settings");
+  }
+  fs::create_directories(out_dir);
+  WriteText(path.string(), RunInfoToJson(info).dump(2) + "\n");
+}
+
+EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
+                         const std::vector<PairTask>& tasks,
+                         const std::vector<PairRecord>& records) {
+  EvalSummary s;
+  s.json = {{"protocol", info.protocol},
+            {"method", info.method},
+            {"shard", info.shard},
+            {"command", info.command},
+            {"settings", info.settings}};
+  json benchmarks = json::array();
+  std::string table;
+  if (info.protocol == "3dmatch") {
+    const auto summaries = SummarizeMatch(tasks, records);
+    for (const auto& b : summaries) benchmarks.push_back(ToJson(b));
+    table = MatchSummaryMarkdown(summaries);
+    json logs = json::array();
+    for (const std::string& p : WriteEstLogs(out_dir, tasks, records)) {
+      logs.push_back(fs::relative(p, out_dir).string());
+    }
+    s.json["est_logs"] = logs;
+  } else {
+    const auto summaries = SummarizeFramePairs(tasks, records);
+    for (const auto& b : summaries) benchmarks.push_back(ToJson(b));
+    table = FramePairSummaryMarkdown(summaries);
+  }
+  s.json["benchmarks"] = benchmarks;
+  s.markdown = "# zeroreg eval " + info.protocol + " — method `" + info.method + "`, shard " +
+               info.shard + "\n\n" + table + "\n" + "Command: `" + info.command + "`\n";
+  WriteText((fs::path(out_dir) / "summary.json").string(), s.json.dump(2) + "\n");
+  WriteText((fs::path(out_dir) / "summary.md").string(), s.markdown);
+  return s;
+}
+
+EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& out_dir,
+                      int* missing) {
+  if (dirs.empty()) throw MakeInputError("zeroreg eval merge", "no results folders given");
+  RunInfo merged;
+  std::map<std::string, PairRecord> by_key;
+  for (size_t d = 0; d < dirs.size(); ++d) {
+    const RunInfo info = ReadRunInfo(dirs[d]);
+    if (d == 0) {
+      merged = info;
+    } else {
+      auto differs = [&](const char* what) {
+        return MakeInputError(dirs[d], std::string("has another ") + what + " than " + dirs[0] +
+                                           "; only shards of one run can be merged");
+      };
+      if (info.protocol != merged.protocol) throw differs("protocol");
+      if (info.method != merged.method) throw differs("method");
+      if (info.settings != merged.settings) throw differs("config or data settings");
+      if (RunInfoToJson(info)["pairs"] != RunInfoToJson(merged)["pairs"]) {
+        throw differs("pair selection (--pairs / --limit)");
+      }
+    }
+    const std::string jsonl = (fs::path(dirs[d]) / "pairs.jsonl").string();
+    for (PairRecord& r : ReadPairsJsonl(jsonl)) {
+      if (!r.error.empty()) continue;
+      by_key.emplace(r.key, std::move(r));  // the first folder holding a pair wins
+    }
+  }
+  std::vector<PairRecord> records;
+  int absent = 0;
+  for (const PairTask& t : merged.tasks) {
+    const auto it = by_key.find(t.Key());
+    if (it == by_key.end()) {
+      ++absent;
+    } else {
+      records.push_back(it->second);
+    }
+  }
+  if (missing) *missing = absent;
+  merged.shard = "merged";
+  merged.command = "zeroreg eval merge";
+  for (const std::string& d : dirs) merged.command += " " + d;
+  merged.command += " --out " + out_dir;
+  fs::create_directories(out_dir);
+  const fs::path run_json = fs::path(out_dir) / "run.json";
+  WriteText(run_json.string(), RunInfoToJson(merged).dump(2) + "\n");
+  WritePairsJsonl((fs::path(out_dir) / "pairs.jsonl").string(), records);
+  return WriteSummary(out_dir, merged, merged.tasks, records);
+}
+
+}  // namespace zeroreg
