@@ -98,8 +98,20 @@ while read -r hash path; do
   expected["$path"]="$hash"
 done <"$list"
 
-sha_of() { sha256sum "$1" | cut -d' ' -f1; }
-has_right_hash() { [[ -f "$dest/$1" ]] && [[ "$(sha_of "$dest/$1")" == "${expected[$1]}" ]]; }
+# actual[REL] = sha256 of $dest/REL for the given relative paths that exist (one sha256sum call
+# for all of them: this runs inside the test suite, where process start-up dominates).
+declare -A actual=()
+hash_present() {  # REL...
+  local present=() rel hash name
+  for rel in "$@"; do
+    unset 'actual[$rel]'
+    [[ -f "$dest/$rel" ]] && present+=("$rel")
+  done
+  [[ ${#present[@]} -gt 0 ]] || return 0
+  while read -r hash name; do
+    actual["${name#\*}"]="$hash"
+  done < <(cd "$dest" && sha256sum -- "${present[@]}")
+}
 
 download() {  # URL OUTPUT
   if command -v curl >/dev/null 2>&1; then
@@ -168,11 +180,13 @@ else
 fi
 mkdir -p "$dest"
 
-fetched=0
+hash_present "${paths[@]}"
+fetched=()
 for rel in "${paths[@]}"; do
-  has_right_hash "$rel" && continue
-  if obtain "$rel"; then fetched=$((fetched + 1)); fi
+  [[ "${actual[$rel]:-}" == "${expected[$rel]}" ]] && continue
+  if obtain "$rel"; then fetched+=("$rel"); fi
 done
+[[ ${#fetched[@]} -eq 0 ]] || hash_present "${fetched[@]}"
 
 # Verify everything, whatever happened above.
 bad=0
@@ -182,9 +196,8 @@ for rel in "${paths[@]}"; do
     bad=$((bad + 1))
     continue
   fi
-  actual="$(sha_of "$dest/$rel")"
-  if [[ "$actual" != "${expected[$rel]}" ]]; then
-    echo "fetch-assets: $dest/$rel: sha256 mismatch (expected ${expected[$rel]}, got $actual): wrong hash, the file is corrupt or a different version" >&2
+  if [[ "${actual[$rel]:-}" != "${expected[$rel]}" ]]; then
+    echo "fetch-assets: $dest/$rel: sha256 mismatch (expected ${expected[$rel]}, got ${actual[$rel]:-?}): wrong hash, the file is corrupt or a different version" >&2
     bad=$((bad + 1))
   fi
 done
@@ -194,4 +207,4 @@ if [[ $bad -gt 0 ]]; then
   echo "fetch-assets: $bad of ${#paths[@]} files missing or wrong in $dest" >&2
   exit 1
 fi
-echo "fetch-assets: all ${#paths[@]} files verified in $dest ($fetched fetched, $((${#paths[@]} - fetched)) already present)"
+echo "fetch-assets: all ${#paths[@]} files verified in $dest (${#fetched[@]} fetched, $((${#paths[@]} - ${#fetched[@]})) already present)"

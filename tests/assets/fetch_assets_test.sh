@@ -11,7 +11,11 @@ fetch="$repo_root/scripts/fetch-assets.sh"
 models="$repo_root/../shared/models"
 [[ -d "$models" ]] || { echo "SKIP: $models not found"; exit 77; }
 
-work="$(mktemp -d)"
+# RAM-backed scratch space when available: on a loaded machine copying 11 MB to disk can take
+# seconds of writeback throttling, and the gtest wrapper gives this script 10 s.
+scratch=/tmp
+[[ -d /dev/shm && -w /dev/shm ]] && scratch=/dev/shm
+work="$(mktemp -d -p "$scratch" zeroreg_fetch_test.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
@@ -37,18 +41,23 @@ bash "$fetch" --from "$models" --dest "$work/dest" >"$work/out3" 2>&1 || { cat "
 cmp -s "$work/dest/$corrupt_rel" "$models/$corrupt_rel" || fail "corrupt $corrupt_rel was not repaired"
 
 # 4. Bad mirror: one file corrupt, one missing -> non-zero exit naming both problems.
+# The mirror is a symlink farm (cheap; fetch-assets copies through the links) with one real,
+# corrupted file.
 mkdir -p "$work/mirror"
-cp -r "$models/." "$work/mirror/"
-chmod -R u+w "$work/mirror"
-printf 'garbage' >>"$work/mirror/$corrupt_rel"
+cp -rs "$(cd "$models" && pwd)/." "$work/mirror/"
+rm "$work/mirror/$corrupt_rel"
+cat "$models/$corrupt_rel" - <<<"garbage" >"$work/mirror/$corrupt_rel"
 rm "$work/mirror/$missing_rel"
+# The destination from step 1 gets the same damage, so the script has to take both from the mirror.
+cp "$work/mirror/$corrupt_rel" "$work/dest/$corrupt_rel"
+rm "$work/dest/$missing_rel"
 actual_hash="$(sha256sum "$work/mirror/$corrupt_rel" | cut -d' ' -f1)"
-if bash "$fetch" --from "$work/mirror" --dest "$work/fresh" >"$work/out4" 2>&1; then
+if bash "$fetch" --from "$work/mirror" --dest "$work/dest" >"$work/out4" 2>&1; then
   cat "$work/out4"; fail "exit status 0 despite a corrupt and a missing file"
 fi
-grep -F "$work/fresh/$corrupt_rel: sha256 mismatch (expected $expected_hash, got $actual_hash)" "$work/out4" >/dev/null ||
+grep -F "$work/dest/$corrupt_rel: sha256 mismatch (expected $expected_hash, got $actual_hash)" "$work/out4" >/dev/null ||
   { cat "$work/out4"; fail "corrupt $corrupt_rel not reported with expected/actual hash"; }
-grep -F "$work/fresh/$missing_rel: missing" "$work/out4" >/dev/null ||
+grep -F "$work/dest/$missing_rel: missing" "$work/out4" >/dev/null ||
   { cat "$work/out4"; fail "missing $missing_rel not reported"; }
 [[ "$(grep -c 'sha256 mismatch\|: missing' "$work/out4")" -eq 2 ]] ||
   { cat "$work/out4"; fail "expected exactly two problems reported"; }
