@@ -14,7 +14,7 @@ bash scripts/fetch-assets.sh
 ctest --test-dir "$build_dir" --output-on-failure -j2
 
 if [[ -d python/tests ]]; then
-  python3 -m pytest -q python/tests
+  ZEROREG_PYTHONPATH="$build_dir/python" /usr/bin/python3 -m pytest -q python/tests
 else
   echo "test: no python/tests folder, skipping the Python tests"
 fi
