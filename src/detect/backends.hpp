@@ -1,0 +1,65 @@
+// The concrete detectors behind MakeDetector. Each takes file paths (already resolved and verified
+// by the pipeline) and throws InputError naming the file when it cannot be loaded.
+#pragma once
+
+#include <opencv2/dnn.hpp>
+#include <string>
+#include <vector>
+
+#include "detect/detector.hpp"
+
+namespace zeroreg {
+
+// YOLOX-Nano, COCO-80, ONNX (models/yolox_nano_coco/MANIFEST.md): 416x416 BGR 0-255 input,
+// top-left letterbox on a 114 canvas, anchor-free grid decode over strides 8/16/32.
+class YoloxDetector : public Detector {
+ public:
+  YoloxDetector(const std::string& onnx_path, const std::string& classes_path,
+                const DetectorConfig& config);
+  std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
+  std::string name() const override { return "yolox"; }
+
+  static constexpr int kInputSize = 416;
+
+ private:
+  cv::dnn::Net net_;
+  std::vector<std::string> classes_;
+  DetectorConfig config_;
+  std::string onnx_path_;
+};
+
+// Yolo-Fastest-1.1-xl, COCO-80, Darknet cfg + weights (models/yolo_fastest_1.1_xl_coco): 320x320
+// RGB /255 plain resize; OpenCV's region layer already multiplies class scores by objectness.
+class DarknetDetector : public Detector {
+ public:
+  DarknetDetector(const std::string& cfg_path, const std::string& weights_path,
+                  const std::string& classes_path, const DetectorConfig& config);
+  std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
+  std::string name() const override { return "darknet"; }
+
+  static constexpr int kInputSize = 320;
+
+ private:
+  cv::dnn::Net net_;
+  std::vector<std::string> classes_;
+  std::vector<std::string> output_names_;
+  DetectorConfig config_;
+  std::string weights_path_;
+};
+
+// Precomputed detections: <detections_dir>/<image stem>.json (format in docs/PERCEPTION.md).
+// Lets users run detectors OpenCV cannot (Florence-2, the paper's choice) and feed the output in.
+class FileDetector : public Detector {
+ public:
+  explicit FileDetector(const DetectorConfig& config);
+  std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
+  std::string name() const override { return "file"; }
+
+  // Path of the JSON file read for `image_name`.
+  std::string PathFor(const std::string& image_name) const;
+
+ private:
+  DetectorConfig config_;
+};
+
+}  // namespace zeroreg

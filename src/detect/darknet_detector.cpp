@@ -1,0 +1,66 @@
+#include "detect/backends.hpp"
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+
+DarknetDetector::DarknetDetector(const std::string& cfg_path, const std::string& weights_path,
+                                 const std::string& classes_path, const DetectorConfig& config)
+    : config_(config), weights_path_(weights_path) {
+  detail::RequireReadableFile(cfg_path, "Darknet cfg");
+  detail::RequireReadableFile(weights_path, "Darknet weights");
+  classes_ = detail::ReadClassNames(classes_path);
+  try {
+    net_ = cv::dnn::readNetFromDarknet(cfg_path, weights_path);
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(weights_path, "cannot load Darknet network with cfg " + cfg_path +
+                                           " (corrupt or mismatched files?): " + e.what());
+  }
+  if (net_.empty()) throw MakeInputError(weights_path, "Darknet network loaded empty");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  output_names_ = net_.getUnconnectedOutLayersNames();
+}
+
+std::vector<Detection> DarknetDetector::Detect(const cv::Mat& bgr,
+                                               const std::string& image_name) {
+  detail::RequireBgrImage(bgr, image_name);
+  // Plain resize (the cfg has no letterbox), RGB, /255 (MANIFEST "Input").
+  const cv::Mat blob = cv::dnn::blobFromImage(bgr, 1.0 / 255.0, cv::Size(kInputSize, kInputSize),
+                                              cv::Scalar(), /*swapRB=*/true, /*crop=*/false);
+  std::vector<cv::Mat> outs;
+  try {
+    net_.setInput(blob);
+    net_.forward(outs, output_names_);
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(weights_path_, std::string("forward pass failed: ") + e.what());
+  }
+  const int num_classes = static_cast<int>(classes_.size());
+  const float W = static_cast<float>(bgr.cols), H = static_cast<float>(bgr.rows);
+  const cv::Rect2f image_rect(0.0f, 0.0f, W, H);
+  std::vector<Detection> candidates;
+  for (const cv::Mat& out : outs) {
+    if (out.dims != 2 || out.cols != 5 + num_classes) {
+      throw MakeInputError(weights_path_, "output layer has " + std::to_string(out.cols) +
+                                              " columns, expected " +
+                                              std::to_string(5 + num_classes));
+    }
+    for (int i = 0; i < out.rows; ++i) {
+      const float* p = out.ptr<float>(i);
+      // Columns 5.. are already objectness * class probability (OpenCV region layer).
+      int best = 0;
+      for (int k = 1; k < num_classes; ++k) {
+        if (p[5 + k] > p[5 + best]) best = k;
+      }
+      const float score = p[5 + best];
+      if (score < config_.score_threshold) continue;
+      const float w = p[2] * W, h = p[3] * H;
+      cv::Rect2f box(p[0] * W - 0.5f * w, p[1] * H - 0.5f * h, w, h);
+      box &= image_rect;
+      if (box.width <= 0.0f || box.height <= 0.0f) continue;
+      candidates.push_back({box, classes_[best], score, best});
+    }
+  }
+  return detail::NonMaxSuppressionPerClass(candidates, config_.nms_iou);
+}
+
+}  // namespace zeroreg

@@ -1,0 +1,82 @@
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/backends.hpp"
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+
+YoloxDetector::YoloxDetector(const std::string& onnx_path, const std::string& classes_path,
+                             const DetectorConfig& config)
+    : config_(config), onnx_path_(onnx_path) {
+  detail::RequireReadableFile(onnx_path, "YOLOX ONNX model");
+  classes_ = detail::ReadClassNames(classes_path);
+  try {
+    net_ = cv::dnn::readNetFromONNX(onnx_path);
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(onnx_path, std::string("cannot load as an ONNX network (corrupt or not "
+                                                "the YOLOX-Nano export?): ") +
+                                        e.what());
+  }
+  if (net_.empty()) throw MakeInputError(onnx_path, "ONNX network loaded empty");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+}
+
+std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
+  detail::RequireBgrImage(bgr, image_name);
+  double r = 1.0;
+  const cv::Mat canvas = detail::LetterboxTopLeft(bgr, kInputSize, &r);
+  // Raw 0-255 BGR, no mean/std: the export bakes no normalisation in (MANIFEST "Input").
+  const cv::Mat blob = cv::dnn::blobFromImage(canvas, 1.0, cv::Size(kInputSize, kInputSize),
+                                              cv::Scalar(0, 0, 0), /*swapRB=*/false,
+                                              /*crop=*/false);
+  cv::Mat out;
+  try {
+    net_.setInput(blob);
+    out = net_.forward();
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(onnx_path_, std::string("forward pass failed: ") + e.what());
+  }
+  const int num_cols = 5 + static_cast<int>(classes_.size());
+  static constexpr int kStrides[3] = {8, 16, 32};
+  int expected_rows = 0;
+  for (int s : kStrides) expected_rows += (kInputSize / s) * (kInputSize / s);
+  if (out.total() != static_cast<size_t>(expected_rows) * num_cols) {
+    throw MakeInputError(onnx_path_, "output has " + std::to_string(out.total()) +
+                                         " values, expected 1x" + std::to_string(expected_rows) +
+                                         "x" + std::to_string(num_cols));
+  }
+  const float* data = out.ptr<float>();
+  const cv::Rect2f image_rect(0.0f, 0.0f, static_cast<float>(bgr.cols),
+                              static_cast<float>(bgr.rows));
+  std::vector<Detection> candidates;
+  int row = 0;
+  // Rows are the grid cells of strides 8, 16, 32 in that order, row-major (y, x) in each.
+  for (int stride : kStrides) {
+    const int cells = kInputSize / stride;
+    for (int gy = 0; gy < cells; ++gy) {
+      for (int gx = 0; gx < cells; ++gx, ++row) {
+        const float* p = data + static_cast<size_t>(row) * num_cols;
+        const float obj = p[4];
+        if (obj < config_.score_threshold) continue;  // score = obj * cls <= obj
+        int best = 0;
+        for (int k = 1; k < static_cast<int>(classes_.size()); ++k) {
+          if (p[5 + k] > p[5 + best]) best = k;
+        }
+        const float score = obj * p[5 + best];
+        if (score < config_.score_threshold) continue;
+        const double cx = (p[0] + gx) * stride, cy = (p[1] + gy) * stride;
+        const double w = std::exp(p[2]) * stride, h = std::exp(p[3]) * stride;
+        cv::Rect2f box(static_cast<float>((cx - 0.5 * w) / r), static_cast<float>((cy - 0.5 * h) / r),
+                       static_cast<float>(w / r), static_cast<float>(h / r));
+        box &= image_rect;
+        if (box.width <= 0.0f || box.height <= 0.0f) continue;
+        candidates.push_back({box, classes_[best], score, best});
+      }
+    }
+  }
+  return detail::NonMaxSuppressionPerClass(candidates, config_.nms_iou);
+}
+
+}  // namespace zeroreg
