@@ -104,6 +104,24 @@ struct ObjectMatchConfig {
   std::uint64_t seed = 0;  // random starts of the approximate solver
 };
 
+// Object detection (paper §3.2, "Object Detection and Segmentation").
+struct DetectorConfig {
+  std::string backend = "yolox";  // "yolox" (default), "darknet" or "file"
+  // Detections scoring below this are dropped. YOLOX/Yolo-Fastest: score = objectness * class
+  // probability; 0.3 is the threshold the model MANIFESTs were checked with.
+  double score_threshold = 0.3;
+  double nms_iou = 0.45;  // per-class non-maximum suppression IoU (both models' upstream default)
+  // "file" backend: folder holding <image stem>.json per image (docs/PERCEPTION.md).
+  std::string detections_dir;
+};
+
+// Semantic feature of an object's label (paper §3.2, "Semantic Feature Extraction").
+struct SemanticsConfig {
+  // "clip-table": CLIP ViT-B/32 text embeddings of the COCO, Objects365, OpenImages and LVIS class
+  // names (looked up in that order). A label found in no table falls back to label equality.
+  std::string backend = "clip-table";
+};
+
 // Robust estimation of the rigid transform from 3D correspondences (paper §3.4, RANSAC).
 struct RansacConfig {
   double inlier_threshold_m = 0.05;  // 3DMatch convention: 5 cm
@@ -156,6 +174,8 @@ struct PipelineConfig {
   MatchConfig match;
   LiftConfig lift;
   RansacConfig ransac;
+  DetectorConfig detector;
+  SemanticsConfig semantics;
   ObjectsConfig objects;
   SceneGraphConfig scene_graph;
   ObjectMatchConfig object_match;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "zeroreg/config.hpp"
+
 namespace zeroreg {
 
 struct Detection {
@@ -17,15 +19,6 @@ struct Detection {
   int class_id = -1;   // row in the backend's class list; -1 when unknown (file backend)
 };
 
-struct DetectorConfig {
-  std::string backend = "yolox";  // "yolox" (default), "darknet" or "file"
-  // Detections scoring below this are dropped. YOLOX/Yolo-Fastest: score = objectness * class
-  // probability; 0.3 is the threshold the model MANIFESTs were checked with.
-  double score_threshold = 0.3;
-  double nms_iou = 0.45;  // per-class non-maximum suppression IoU (both models' upstream default)
-  // "file" backend: folder holding <image stem>.json per image (docs/PERCEPTION.md).
-  std::string detections_dir;
-};
 
 // Model files, already resolved and verified by the caller (the pipeline); only those of the
 // chosen backend are read.
