@@ -245,6 +245,28 @@ json TransformToJson(const Transform& T) {
   return rows;
 }
 
+namespace {
+
+json ObjectsToJson(const std::vector<ObjectSummary>& objects) {
+  json list = json::array();
+  for (const ObjectSummary& o : objects) {
+    json views = json::array();
+    for (const ObjectView& v : o.views) {
+      views.push_back({{"view", v.view},
+                       {"box_xywh", {v.box.x, v.box.y, v.box.width, v.box.height}},
+                       {"score", v.score}});
+    }
+    list.push_back({{"label", o.label},
+                    {"score", o.score},
+                    {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
+                    {"num_points", o.num_points},
+                    {"views", views}});
+  }
+  return list;
+}
+
+}  // namespace
+
 json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
   json timings = json::object();
   for (const StageTime& t : r.timings) timings[t.stage] = t.ms;
@@ -261,6 +283,20 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"inlier_ratio", r.inlier_ratio},
          {"inlier_rmse_m", r.inlier_rmse},
          {"timings_ms", timings}};
+  if (!r.source_objects.empty() || !r.target_objects.empty()) {
+    json matches = json::array();
+    for (const ObjectMatchSummary& m : r.object_matches) {
+      matches.push_back({{"source", m.source},
+                         {"target", m.target},
+                         {"source_label", r.source_objects[m.source].label},
+                         {"target_label", r.target_objects[m.target].label},
+                         {"node_similarity", m.node_similarity},
+                         {"correspondences", m.num_correspondences}});
+    }
+    j["objects"] = {{"source", ObjectsToJson(r.source_objects)},
+                    {"target", ObjectsToJson(r.target_objects)},
+                    {"matches", matches}};
+  }
   if (include_correspondences) {
     json list = json::array();
     for (size_t i = 0; i < r.correspondences.size(); ++i) {
