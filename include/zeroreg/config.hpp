@@ -122,6 +122,51 @@ struct SemanticsConfig {
   std::string backend = "clip-table";
 };
 
+// Object masks from the detection boxes (paper §3.2: SAMv2 prompted by the boxes). SAMv2 does not
+// run in OpenCV's DNN; "grabcut-depth" is the built-in replacement (docs/PERCEPTION.md).
+struct SegmenterConfig {
+  // "grabcut-depth" (default): GrabCut seeded by the box, then kept to the object's depth layer.
+  // "box": the box itself, minus invalid depth. "file": precomputed masks (masks_dir below).
+  std::string backend = "grabcut-depth";
+  // GrabCut iterations (GMM re-estimation + min cut). 5: the mask stops changing after ~3-5 on
+  // redkitchen boxes, and each costs ~1-2 ms at the working resolution below.
+  int grabcut_iterations = 5;
+  // GrabCut runs on the box crop downscaled so its longer side is this many pixels (never
+  // upscaled). Max-flow cost grows faster than the pixel count; 80 px keeps a box ~10 ms while
+  // still resolving object outlines to ~1/80 of the box (masks are refined with depth anyway).
+  int working_size_px = 80;
+  // Context around the box given to GrabCut as background, as a fraction of the box's longer
+  // side (at least 4 working pixels): the colour model of the background comes from this ring.
+  double crop_margin_fraction = 0.15;
+  // Depth layer: pixels whose depth is within +-band of the median masked depth d are kept, with
+  // band = max(depth_band_min_m, depth_band_relative * d + depth_band_size_factor * S), S = the
+  // box's shorter side in metres at depth d. The relative term covers structured-light noise
+  // (~1-2% of d); the size term lets an object be as deep as a fraction of its width.
+  double depth_band_min_m = 0.05;
+  double depth_band_relative = 0.03;
+  double depth_band_size_factor = 0.75;
+  // Focal length in units of the image width, used only to turn the box size into metres for S
+  // (the segmenter gets no intrinsics). Kinect 585/640 = 0.91, ScanNet 1170/1296 = 0.90.
+  double focal_length_fraction = 0.9;
+  // Colour and depth are not registered on 7-Scenes (~5 px, data MANIFEST), so mask pixels within
+  // depth_edge_radius_px of a depth jump larger than depth_edge_relative * depth (or of invalid
+  // depth) are dropped: their depth may belong to the object behind or in front.
+  int depth_edge_radius_px = 4;
+  double depth_edge_relative = 0.05;
+  // Final erosion of the mask (pixels, 3x3 cross steps): trims the colour boundary, which itself
+  // is uncertain by a pixel or two after upsampling from the working resolution.
+  int erosion_px = 2;
+  // When the refined mask covers less than this fraction of the box, GrabCut is taken to have
+  // failed and the depth layer inside the box (around the median depth of its central part) is
+  // returned instead.
+  double min_box_fraction = 0.1;
+  // GrabCut's GMM initialisation (k-means++) draws from cv::theRNG(); it is reset to this seed
+  // before every box, so a mask does not depend on what ran before it.
+  std::uint64_t seed = 0;
+  // "file" backend: folder of <image stem>_<index>.png masks (docs/PERCEPTION.md).
+  std::string masks_dir;
+};
+
 // Robust estimation of the rigid transform from 3D correspondences (paper §3.4, RANSAC).
 struct RansacConfig {
   double inlier_threshold_m = 0.05;  // 3DMatch convention: 5 cm
@@ -130,6 +175,18 @@ struct RansacConfig {
   // Verdict: the result is valid only with at least this many inliers and this inlier ratio.
   int min_inliers = 20;
   double min_inlier_ratio = 0.05;  // feature-match-recall threshold of the 3DMatch protocol
+};
+
+// Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
+struct RefineConfig {
+  bool enabled = false;          // off by default: see BENCHMARKS.md for what it changes
+  double voxel_m = 0.02;         // geometry is downsampled to this before ICP
+  double max_distance_m = 0.05;  // correspondence gate, the RANSAC inlier distance
+  int max_iterations = 30;
+  // The refined transform replaces RANSAC's only when it moves less than this (a refinement, not
+  // a new registration): metres for translation, degrees for rotation.
+  double max_translation_change_m = 0.1;
+  double max_rotation_change_deg = 5.0;
 };
 
 // Building the objects of a scan from its views' masks (paper §3.2).
@@ -174,6 +231,7 @@ struct PipelineConfig {
   MatchConfig match;
   LiftConfig lift;
   RansacConfig ransac;
+  RefineConfig refine;
   DetectorConfig detector;
   SemanticsConfig semantics;
   ObjectsConfig objects;

@@ -49,6 +49,26 @@ void Visit(V& v, RansacConfig& c) {
   v("min_inlier_ratio", c.min_inlier_ratio);
 }
 template <typename V>
+void Visit(V& v, RefineConfig& c) {
+  v("enabled", c.enabled);
+  v("voxel_m", c.voxel_m);
+  v("max_distance_m", c.max_distance_m);
+  v("max_iterations", c.max_iterations);
+  v("max_translation_change_m", c.max_translation_change_m);
+  v("max_rotation_change_deg", c.max_rotation_change_deg);
+}
+template <typename V>
+void Visit(V& v, DetectorConfig& c) {
+  v("backend", c.backend);
+  v("score_threshold", c.score_threshold);
+  v("nms_iou", c.nms_iou);
+  v("detections_dir", c.detections_dir);
+}
+template <typename V>
+void Visit(V& v, SemanticsConfig& c) {
+  v("backend", c.backend);
+}
+template <typename V>
 void Visit(V& v, ObjectsConfig& c) {
   v("min_views", c.min_views);
   v("pixel_stride", c.pixel_stride);
@@ -88,10 +108,13 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("features", c.features);
   v.Section("match", c.match);
   v.Section("lift", c.lift);
+  v.Section("detector", c.detector);
+  v.Section("semantics", c.semantics);
   v.Section("objects", c.objects);
   v.Section("scene_graph", c.scene_graph);
   v.Section("object_match", c.object_match);
   v.Section("ransac", c.ransac);
+  v.Section("refine", c.refine);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
 }

@@ -1,8 +1,11 @@
 #include "zeroreg/register.hpp"
 
+#include <cstdio>
 #include <sstream>
 
+#include "estimate/icp.hpp"
 #include "estimate/rigid_ransac.hpp"
+#include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "pipeline/image_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
@@ -58,6 +61,26 @@ void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
         << config.inlier_threshold_m << " m";
   }
   r->reason = why.str();
+}
+
+// Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement.
+void Refine(const Scan& source, const Scan& target, const RefineConfig& config,
+            RegistrationResult* r) {
+  const IcpResult icp =
+      RefinePointToPlane(ScanGeometry(source, config.voxel_m), ScanGeometry(target, config.voxel_m),
+                         r->T_target_source, config);
+  const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
+  const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
+  char note[160];
+  if (moved_m <= config.max_translation_change_m && turned_deg <= config.max_rotation_change_deg) {
+    r->T_target_source = icp.T_target_source;
+    std::snprintf(note, sizeof(note), "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg)",
+                  icp.fitness, moved_m * 100, turned_deg);
+  } else {
+    std::snprintf(note, sizeof(note), "; ICP refinement rejected (would move %.1f cm, %.2f deg)",
+                  moved_m * 100, turned_deg);
+  }
+  r->reason += note;
 }
 
 }  // namespace
@@ -117,6 +140,11 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
                             ? static_cast<double>(ransac.num_inliers) / result.num_correspondences
                             : 0.0;
   DecideVerdict(impl_->config.ransac, &result);
+  if (impl_->config.refine.enabled && result.valid) {
+    timer.Restart();
+    Refine(source, target, impl_->config.refine, &result);
+    timer.Mark("refine");
+  }
   double total = 0;
   for (const StageTime& t : timer.times()) total += t.ms;
   result.timings = timer.times();
