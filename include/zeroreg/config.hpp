@@ -175,6 +175,10 @@ struct RansacConfig {
   // Verdict: the result is valid only with at least this many inliers and this inlier ratio.
   int min_inliers = 20;
   double min_inlier_ratio = 0.05;  // feature-match-recall threshold of the 3DMatch protocol
+  // ... and the inliers must not lie on a line: their std. dev. along the second principal axis
+  // must reach this (metres). With ~1 cm depth noise and a few dozen inliers, 0.1 m keeps the
+  // rotation about the weakest axis to about a degree.
+  double min_inlier_spread_m = 0.1;
 };
 
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
@@ -233,6 +237,7 @@ struct PipelineConfig {
   RansacConfig ransac;
   RefineConfig refine;
   DetectorConfig detector;
+  SegmenterConfig segmenter;
   SemanticsConfig semantics;
   ObjectsConfig objects;
   SceneGraphConfig scene_graph;

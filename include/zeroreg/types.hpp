@@ -69,7 +69,7 @@ struct ObjectView {
 // An object found in a scan (paper §3.2): label, 3D centroid and where it was seen.
 struct ObjectSummary {
   std::string label;
-  float score = 0.0f;                                // best detection score
+  float score = 0.0f;                                  // best detection score
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // scan frame, metres
   int num_points = 0;
   std::vector<ObjectView> views;
@@ -100,6 +100,9 @@ struct RegistrationResult {
   int num_inliers = 0;          // RANSAC inliers under the final transform
   double inlier_ratio = 0.0;    // num_inliers / num_correspondences
   double inlier_rmse = 0.0;     // metres, over the RANSAC inliers
+  // Spread of the inliers across their main direction (std. dev. along the second principal axis,
+  // metres): small when they lie on a line, which leaves a rotation undetermined.
+  double inlier_spread_m = 0.0;
   int ransac_iterations = 0;
   std::vector<Correspondence> correspondences;
   std::vector<bool> is_inlier;  // parallel to correspondences

@@ -3,6 +3,7 @@
 // "w/o object level" ablation (Table 4 row a: whole-image features) share one pipeline.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ struct CorrespondenceSet {
   std::string path;  // RegistrationResult::path; empty = the source's name()
   std::vector<ObjectSummary> source_objects, target_objects;
   std::vector<ObjectMatchSummary> object_matches;
+  // Set by sources that can fall back to whole-image matching when their own correspondences do
+  // not give a valid registration; computes them on demand.
+  std::function<std::vector<Correspondence>()> whole_image_fallback;
 };
 
 class CorrespondenceSource {

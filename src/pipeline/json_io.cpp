@@ -47,6 +47,7 @@ void Visit(V& v, RansacConfig& c) {
   v("confidence", c.confidence);
   v("min_inliers", c.min_inliers);
   v("min_inlier_ratio", c.min_inlier_ratio);
+  v("min_inlier_spread_m", c.min_inlier_spread_m);
 }
 template <typename V>
 void Visit(V& v, RefineConfig& c) {
@@ -63,6 +64,22 @@ void Visit(V& v, DetectorConfig& c) {
   v("score_threshold", c.score_threshold);
   v("nms_iou", c.nms_iou);
   v("detections_dir", c.detections_dir);
+}
+template <typename V>
+void Visit(V& v, SegmenterConfig& c) {
+  v("backend", c.backend);
+  v("grabcut_iterations", c.grabcut_iterations);
+  v("working_size_px", c.working_size_px);
+  v("crop_margin_fraction", c.crop_margin_fraction);
+  v("depth_band_min_m", c.depth_band_min_m);
+  v("depth_band_relative", c.depth_band_relative);
+  v("depth_band_size_factor", c.depth_band_size_factor);
+  v("focal_length_fraction", c.focal_length_fraction);
+  v("depth_edge_radius_px", c.depth_edge_radius_px);
+  v("depth_edge_relative", c.depth_edge_relative);
+  v("erosion_px", c.erosion_px);
+  v("min_box_fraction", c.min_box_fraction);
+  v("masks_dir", c.masks_dir);
 }
 template <typename V>
 void Visit(V& v, SemanticsConfig& c) {
@@ -109,6 +126,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("match", c.match);
   v.Section("lift", c.lift);
   v.Section("detector", c.detector);
+  v.Section("segmenter", c.segmenter);
   v.Section("semantics", c.semantics);
   v.Section("objects", c.objects);
   v.Section("scene_graph", c.scene_graph);
@@ -305,6 +323,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
            {"ransac_iterations", r.ransac_iterations}}},
          {"inlier_ratio", r.inlier_ratio},
          {"inlier_rmse_m", r.inlier_rmse},
+         {"inlier_spread_m", r.inlier_spread_m},
          {"timings_ms", timings}};
   if (!r.source_objects.empty() || !r.target_objects.empty()) {
     json matches = json::array();

@@ -1,5 +1,7 @@
 #include "zeroreg/register.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -8,6 +10,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "pipeline/image_correspondences.hpp"
+#include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
@@ -52,6 +55,10 @@ void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
   } else if (r->num_inliers < config.min_inliers) {
     why << "only " << r->num_inliers << " RANSAC inliers of " << r->num_correspondences
         << " correspondences (need at least " << config.min_inliers << ")";
+  } else if (r->inlier_spread_m < config.min_inlier_spread_m) {
+    why << "the " << r->num_inliers << " inliers lie almost on a line (spread "
+        << r->inlier_spread_m << " m across it, need " << config.min_inlier_spread_m
+        << " m): the rotation about it is undetermined";
   } else if (r->inlier_ratio < config.min_inlier_ratio) {
     why << "inlier ratio " << r->inlier_ratio << " is below " << config.min_inlier_ratio << " ("
         << r->num_inliers << " of " << r->num_correspondences << ")";
@@ -61,6 +68,51 @@ void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
         << config.inlier_threshold_m << " m";
   }
   r->reason = why.str();
+}
+
+// Standard deviation of the inliers' target points along their second principal axis: near zero
+// when the inliers lie on a line, about which the rotation is then undetermined.
+double InlierSpread(const RegistrationResult& r) {
+  std::vector<Eigen::Vector3d> points;
+  for (size_t i = 0; i < r.correspondences.size(); ++i) {
+    if (r.is_inlier[i]) points.push_back(r.correspondences[i].target);
+  }
+  if (points.size() < 3) return 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) covariance += (p - mean) * (p - mean).transpose();
+  covariance /= static_cast<double>(points.size());
+  const Eigen::Vector3d eigenvalues =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues();  // ascending
+  return std::sqrt(std::max(0.0, eigenvalues(1)));
+}
+
+// RANSAC on the correspondences, then the verdict (§3.4).
+void Estimate(std::vector<Correspondence> correspondences, const PipelineConfig& config,
+              RegistrationResult* r) {
+  r->correspondences = std::move(correspondences);
+  r->num_correspondences = static_cast<int>(r->correspondences.size());
+  std::vector<Eigen::Vector3d> src, tgt;
+  src.reserve(r->correspondences.size());
+  tgt.reserve(r->correspondences.size());
+  for (const Correspondence& c : r->correspondences) {
+    src.push_back(c.source);
+    tgt.push_back(c.target);
+  }
+  const RansacResult ransac = EstimateRigidRansac(src, tgt, config.ransac, config.seed);
+  r->T_target_source = ransac.T_target_source;
+  r->is_inlier = ransac.is_inlier;
+  r->num_inliers = ransac.num_inliers;
+  r->inlier_rmse = ransac.inlier_rmse;
+  r->ransac_iterations = ransac.iterations;
+  r->inlier_ratio = r->num_correspondences > 0
+                        ? static_cast<double>(ransac.num_inliers) / r->num_correspondences
+                        : 0.0;
+  r->inlier_spread_m = InlierSpread(*r);
+  r->valid = false;
+  DecideVerdict(config.ransac, r);
 }
 
 // Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement.
@@ -83,24 +135,56 @@ void Refine(const Scan& source, const Scan& target, const RefineConfig& config,
   r->reason += note;
 }
 
+// Model files of the configured detector, verified against the repo's sha256 list.
+DetectorModelPaths ResolveDetectorModels(const DetectorConfig& config, const std::string& assets) {
+  DetectorModelPaths paths;
+  if (config.backend == "yolox") {
+    paths.yolox_onnx = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
+    paths.yolox_classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
+  } else if (config.backend == "darknet") {
+    paths.darknet_cfg = RequireAsset(assets, "yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg");
+    paths.darknet_weights =
+        RequireAsset(assets, "yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights");
+    paths.darknet_classes = RequireAsset(assets, "yolo_fastest_1.1_xl_coco/coco_classes.txt");
+  }
+  return paths;
+}
+
+// Whether any configured stage reads a model file (SIFT + file detections + no CLIP need none).
+bool NeedsAssets(const PipelineConfig& c) {
+  if (c.features.backend != "sift") return true;
+  if (!c.method.object_level) return false;
+  return c.detector.backend != "file" || c.method.clip;
+}
+
 }  // namespace
 
 struct Pipeline::Impl {
   PipelineConfig config;
   std::unique_ptr<FeatureExtractor> extractor;
   std::unique_ptr<DescriptorMatcher> matcher;
+  std::unique_ptr<Detector> detector;
+  std::unique_ptr<Segmenter> segmenter;
+  std::unique_ptr<TextEmbedder> embedder;
   std::unique_ptr<CorrespondenceSource> source;
 };
 
 Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>()) {
   impl_->config = config;
-  const std::string assets = config.features.backend == "sift"
-                                 ? config.assets_dir  // SIFT needs no model file
-                                 : ResolveAssetsDir(config.assets_dir);
-  impl_->extractor = MakeFeatureExtractor(config.features, assets);
-  impl_->matcher = MakeDescriptorMatcher(config.match);
-  impl_->source =
-      std::make_unique<ImageCorrespondenceSource>(*impl_->extractor, *impl_->matcher, config.lift);
+  const std::string assets =
+      NeedsAssets(config) ? ResolveAssetsDir(config.assets_dir) : config.assets_dir;
+  Impl& m = *impl_;
+  m.extractor = MakeFeatureExtractor(config.features, assets);
+  m.matcher = MakeDescriptorMatcher(config.match);
+  if (!config.method.object_level) {
+    m.source = std::make_unique<ImageCorrespondenceSource>(*m.extractor, *m.matcher, config.lift);
+    return;
+  }
+  m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets));
+  m.segmenter = MakeSegmenter(config.segmenter);
+  if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
+  m.source = std::make_unique<ObjectCorrespondenceSource>(
+      m.config, *m.extractor, *m.detector, *m.segmenter, m.embedder.get(), *m.matcher);
 }
 
 Pipeline::~Pipeline() = default;
@@ -110,39 +194,36 @@ const PipelineConfig& Pipeline::config() const { return impl_->config; }
 RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) const {
   CheckScan(source, "source");
   CheckScan(target, "target");
+  const PipelineConfig& config = impl_->config;
   StageTimer timer;
   RegistrationResult result;
-  result.path = impl_->source->name();
-
   CorrespondenceSet found = impl_->source->Find(source, target, timer);
+  result.path = found.path.empty() ? impl_->source->name() : found.path;
+  result.source_objects = std::move(found.source_objects);
+  result.target_objects = std::move(found.target_objects);
+  result.object_matches = std::move(found.object_matches);
   result.num_keypoints_source = found.num_keypoints_source;
   result.num_keypoints_target = found.num_keypoints_target;
-  result.correspondences = std::move(found.correspondences);
-  result.num_correspondences = static_cast<int>(result.correspondences.size());
-
   timer.Restart();
-  std::vector<Eigen::Vector3d> src, tgt;
-  src.reserve(result.correspondences.size());
-  tgt.reserve(result.correspondences.size());
-  for (const Correspondence& c : result.correspondences) {
-    src.push_back(c.source);
-    tgt.push_back(c.target);
-  }
-  const RansacResult ransac =
-      EstimateRigidRansac(src, tgt, impl_->config.ransac, impl_->config.seed);
+  Estimate(std::move(found.correspondences), config, &result);
   timer.Mark("estimate");
-  result.T_target_source = ransac.T_target_source;
-  result.is_inlier = ransac.is_inlier;
-  result.num_inliers = ransac.num_inliers;
-  result.inlier_rmse = ransac.inlier_rmse;
-  result.ransac_iterations = ransac.iterations;
-  result.inlier_ratio = result.num_correspondences > 0
-                            ? static_cast<double>(ransac.num_inliers) / result.num_correspondences
-                            : 0.0;
-  DecideVerdict(impl_->config.ransac, &result);
-  if (impl_->config.refine.enabled && result.valid) {
+
+  // §3.4 found too little inside the matched objects: match the whole images instead (the
+  // features are already extracted) and keep whichever estimate is valid.
+  if (!result.valid && found.whole_image_fallback) {
+    const std::string object_reason = result.reason;
+    RegistrationResult fallback = result;
+    fallback.correspondences = found.whole_image_fallback();
+    timer.Mark("point_match");
+    Estimate(std::move(fallback.correspondences), config, &fallback);
+    timer.Mark("estimate");
+    fallback.path = "image-fallback";
+    fallback.reason += " (object level: " + object_reason + ")";
+    result = std::move(fallback);
+  }
+  if (config.refine.enabled && result.valid) {
     timer.Restart();
-    Refine(source, target, impl_->config.refine, &result);
+    Refine(source, target, config.refine, &result);
     timer.Mark("refine");
   }
   double total = 0;

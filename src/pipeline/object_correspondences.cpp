@@ -1,0 +1,246 @@
+#include "pipeline/object_correspondences.hpp"
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <opencv2/imgproc.hpp>
+#include <set>
+#include <tuple>
+
+#include "graph/scene_graph.hpp"
+#include "object_match/graph_match.hpp"
+
+namespace zeroreg {
+namespace {
+
+bool InsideMask(const cv::Mat& mask, const Eigen::Vector2f& pixel) {
+  const int x = static_cast<int>(std::lround(pixel.x()));
+  const int y = static_cast<int>(std::lround(pixel.y()));
+  return x >= 0 && y >= 0 && x < mask.cols && y < mask.rows && mask.at<uchar>(y, x) != 0;
+}
+
+// Rows of `features` whose keypoint lies inside `mask`.
+std::vector<int> KeypointsInside(const ImageFeatures& features, const cv::Mat& mask) {
+  std::vector<int> rows;
+  for (int i = 0; i < features.size(); ++i) {
+    if (InsideMask(mask, features.keypoints[i])) rows.push_back(i);
+  }
+  return rows;
+}
+
+std::vector<cv::Point> LargestOutline(const cv::Mat& mask) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+  if (contours.empty()) return {};
+  return *std::max_element(contours.begin(), contours.end(), [](const auto& a, const auto& b) {
+    return cv::contourArea(a) < cv::contourArea(b);
+  });
+}
+
+std::vector<ObjectSummary> Summarise(const SceneObjects& scene) {
+  std::vector<ObjectSummary> out;
+  for (const SceneObject& object : scene.objects) {
+    ObjectSummary s;
+    s.label = object.label;
+    s.score = object.score;
+    s.centroid = object.centroid;
+    s.num_points = static_cast<int>(object.points.size());
+    for (int i : object.observations) {
+      const ObjectObservation& o = scene.observations[i];
+      s.views.push_back({o.view, o.detection.box, o.detection.score, LargestOutline(o.mask)});
+    }
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+// The observation of `object` in `view`, or null (association never merges two observations of
+// the same view, so there is at most one).
+const ObjectObservation* ObservationInView(const SceneObjects& scene, const SceneObject& object,
+                                           int view) {
+  for (int i : object.observations) {
+    if (scene.observations[i].view == view) return &scene.observations[i];
+  }
+  return nullptr;
+}
+
+// Matches features over whole images, view i with view i (the fallback path).
+void AppendWholeImageCorrespondences(const PerceivedScan& s, const PerceivedScan& t,
+                                     const DescriptorMatcher& matcher,
+                                     std::vector<Correspondence>* out) {
+  const size_t views = std::min(s.view_features.size(), t.view_features.size());
+  for (size_t v = 0; v < views; ++v) {
+    const LiftedFeatures& a = s.view_features[v];
+    const LiftedFeatures& b = t.view_features[v];
+    for (const DescriptorMatch& m : matcher.Match(a.features.descriptors, b.features.descriptors)) {
+      out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
+                      b.features.keypoints[m.target], static_cast<int>(v), m.score});
+    }
+  }
+}
+
+}  // namespace
+
+void SemanticMatrices(const std::vector<SceneObject>& source,
+                      const std::vector<SceneObject>& target, bool use_clip,
+                      Eigen::MatrixXd* semantics_source, Eigen::MatrixXd* semantics_target) {
+  int clip_dim = 0;
+  std::map<std::string, int> one_hot;  // labels without an embedding -> column
+  for (const auto* objects : {&source, &target}) {
+    for (const SceneObject& o : *objects) {
+      if (use_clip && o.semantic.size() > 0) {
+        clip_dim = static_cast<int>(o.semantic.size());
+      } else {
+        one_hot.emplace(o.label, 0);
+      }
+    }
+  }
+  int column = clip_dim;
+  for (auto& [label, col] : one_hot) col = column++;
+  auto fill = [&](const std::vector<SceneObject>& objects, Eigen::MatrixXd* m) {
+    *m = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(objects.size()), std::max(column, 1));
+    for (size_t r = 0; r < objects.size(); ++r) {
+      const SceneObject& o = objects[r];
+      if (use_clip && o.semantic.size() == clip_dim && clip_dim > 0) {
+        m->row(static_cast<Eigen::Index>(r)).head(clip_dim) = o.semantic.normalized().transpose();
+      } else {
+        (*m)(static_cast<Eigen::Index>(r), one_hot.at(o.label)) = 1.0;
+      }
+    }
+  };
+  fill(source, semantics_source);
+  fill(target, semantics_target);
+}
+
+ObjectCorrespondenceSource::ObjectCorrespondenceSource(const PipelineConfig& config,
+                                                       const FeatureExtractor& extractor,
+                                                       Detector& detector, Segmenter& segmenter,
+                                                       TextEmbedder* embedder,
+                                                       const DescriptorMatcher& matcher)
+    : config_(config),
+      extractor_(extractor),
+      detector_(detector),
+      segmenter_(segmenter),
+      embedder_(embedder),
+      matcher_(matcher) {}
+
+PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer& timer) const {
+  PerceivedScan out;
+  for (size_t v = 0; v < scan.views.size(); ++v) {
+    const View& view = scan.views[v];
+    timer.Restart();
+    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, config_.lift));
+    timer.Mark("features");
+    const std::vector<Detection> detections = detector_.Detect(view.color, view.name);
+    timer.Mark("detect");
+    for (size_t d = 0; d < detections.size(); ++d) {
+      ObjectObservation o;
+      o.view = static_cast<int>(v);
+      o.detection = detections[d];
+      o.mask =
+          segmenter_.Segment(view.color, view.depth, detections[d], static_cast<int>(d), view.name);
+      timer.Mark("segment");
+      o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
+      if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
+      if (embedder_ != nullptr) {
+        if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();
+      }
+      timer.Mark("objects");
+      out.objects.observations.push_back(std::move(o));
+    }
+  }
+  timer.Restart();
+  out.objects.objects = AssociateObservations(out.objects.observations,
+                                              static_cast<int>(scan.views.size()), config_.objects);
+  timer.Mark("objects");
+  return out;
+}
+
+CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Scan& target,
+                                                   StageTimer& timer) const {
+  // Shared so that the whole-image fallback can use the same features later, if needed.
+  const auto perceived_s = std::make_shared<const PerceivedScan>(Perceive(source, timer));
+  const auto perceived_t = std::make_shared<const PerceivedScan>(Perceive(target, timer));
+  const PerceivedScan& s = *perceived_s;
+  const PerceivedScan& t = *perceived_t;
+  CorrespondenceSet result;
+  for (const LiftedFeatures& f : s.view_features) result.num_keypoints_source += f.features.size();
+  for (const LiftedFeatures& f : t.view_features) result.num_keypoints_target += f.features.size();
+  result.source_objects = Summarise(s.objects);
+  result.target_objects = Summarise(t.objects);
+  const std::vector<SceneObject>& objects_s = s.objects.objects;
+  const std::vector<SceneObject>& objects_t = t.objects.objects;
+
+  // §3.3: scene graphs (Eq. 1), node similarity C, quadratic assignment (Eq. 2), label filter.
+  timer.Restart();
+  std::vector<ObjectPair> pairs;
+  if (!objects_s.empty() && !objects_t.empty()) {
+    Eigen::MatrixXd sem_s, sem_t, centroids_s(objects_s.size(), 3),
+        centroids_t(objects_t.size(), 3);
+    SemanticMatrices(objects_s, objects_t, config_.method.clip && embedder_ != nullptr, &sem_s,
+                     &sem_t);
+    for (size_t i = 0; i < objects_s.size(); ++i) centroids_s.row(i) = objects_s[i].centroid;
+    for (size_t i = 0; i < objects_t.size(); ++i) centroids_t.row(i) = objects_t[i].centroid;
+    const Eigen::MatrixXd W_p = BuildAffinityMatrix(centroids_s, sem_s, config_.scene_graph);
+    const Eigen::MatrixXd W_q = BuildAffinityMatrix(centroids_t, sem_t, config_.scene_graph);
+    const Eigen::MatrixXd C = NodeSimilarity(sem_s, sem_t);
+    ObjectMatchConfig match_config = config_.object_match;
+    if (!config_.method.scene_graph) match_config.solver = ObjectMatchSolver::kNodeOnly;
+    match_config.seed = config_.seed;
+    std::vector<std::string> labels_s, labels_t;
+    for (const SceneObject& o : objects_s) labels_s.push_back(o.label);
+    for (const SceneObject& o : objects_t) labels_t.push_back(o.label);
+    const MatchMask allowed = config_.method.label_mask_in_solve
+                                  ? LabelCompatibilityMask(labels_s, labels_t)
+                                  : MatchMask();
+    const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
+    // Paper §3.3: drop matched pairs whose labels differ.
+    pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
+  }
+  timer.Mark("object_match");
+
+  // §3.4: point matches inside every matched pair, view i with view i.
+  std::set<std::tuple<int, int, int>> seen;  // (view, source row, target row): masks may overlap
+  for (const ObjectPair& pair : pairs) {
+    ObjectMatchSummary summary{pair.source, pair.target, pair.node_similarity, 0};
+    const size_t views = std::min(s.view_features.size(), t.view_features.size());
+    for (size_t v = 0; v < views; ++v) {
+      const ObjectObservation* os = ObservationInView(s.objects, objects_s[pair.source], v);
+      const ObjectObservation* ot = ObservationInView(t.objects, objects_t[pair.target], v);
+      if (os == nullptr || ot == nullptr) continue;
+      const LiftedFeatures& fs = s.view_features[v];
+      const LiftedFeatures& ft = t.view_features[v];
+      const std::vector<int> rows_s = KeypointsInside(fs.features, os->mask);
+      const std::vector<int> rows_t = KeypointsInside(ft.features, ot->mask);
+      const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
+      for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors)) {
+        const int a = rows_s[m.source], b = rows_t[m.target];
+        if (!seen.emplace(static_cast<int>(v), a, b).second) continue;
+        result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],
+                                          ft.features.keypoints[b], static_cast<int>(v), m.score});
+        ++summary.num_correspondences;
+      }
+    }
+    result.object_matches.push_back(summary);
+  }
+  result.path = "object";
+  timer.Mark("point_match");
+
+  const DescriptorMatcher& matcher = matcher_;
+  result.whole_image_fallback = [perceived_s, perceived_t, &matcher]() {
+    std::vector<Correspondence> all;
+    AppendWholeImageCorrespondences(*perceived_s, *perceived_t, matcher, &all);
+    return all;
+  };
+  // Too little from the objects to even try: go to the whole images straight away.
+  if (static_cast<int>(pairs.size()) < config_.method.min_object_matches ||
+      static_cast<int>(result.correspondences.size()) < config_.method.min_object_correspondences) {
+    result.correspondences = result.whole_image_fallback();
+    result.whole_image_fallback = nullptr;
+    result.path = "image-fallback";
+    timer.Mark("point_match");
+  }
+  return result;
+}
+
+}  // namespace zeroreg
