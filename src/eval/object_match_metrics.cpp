@@ -1,0 +1,18 @@
+#include "eval/object_match_metrics.hpp"
+
+namespace zeroreg {
+
+ObjectMatchStats CountCorrectObjectMatches(const RegistrationResult& result,
+                                           const Transform& T_target_source_gt,
+                                           double threshold_m) {
+  ObjectMatchStats stats;
+  for (const ObjectMatchSummary& m : result.object_matches) {
+    const Eigen::Vector3d moved =
+        (T_target_source_gt * result.source_objects[m.source].centroid.homogeneous()).head<3>();
+    ++stats.matches;
+    if ((moved - result.target_objects[m.target].centroid).norm() < threshold_m) ++stats.correct;
+  }
+  return stats;
+}
+
+}  // namespace zeroreg
