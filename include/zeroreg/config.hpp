@@ -216,6 +216,10 @@ struct ObjectsConfig {
 struct MethodConfig {
   // false: features over the whole image (Table 4 row a, "w/o Object-Level").
   bool object_level = true;
+  // false: no point level (Table 4 row b): the transform comes from the matched objects' centroids
+  // alone (RANSAC with object_centroid_threshold_m, at least 3 matched objects), no fallback.
+  bool point_level = true;
+  double object_centroid_threshold_m = 0.3;  // centroids of partly seen objects move this much
   // false: objects matched by node similarity + Hungarian only ("w/o scene graph").
   bool scene_graph = true;
   // false: labels compared by equality only, no CLIP text features ("w/o CLIP").

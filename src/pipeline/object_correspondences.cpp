@@ -199,6 +199,19 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   }
   timer.Mark("object_match");
 
+  if (!config_.method.point_level) {
+    // Table 4 row (b): the matched objects' centroids are the only correspondences.
+    for (const ObjectPair& pair : pairs) {
+      result.correspondences.push_back(
+          {objects_s[pair.source].centroid, objects_t[pair.target].centroid,
+           Eigen::Vector2f::Zero(), Eigen::Vector2f::Zero(), 0,
+           static_cast<float>(pair.node_similarity)});
+      result.object_matches.push_back({pair.source, pair.target, pair.node_similarity, 1});
+    }
+    result.path = "object-centroids";
+    return result;
+  }
+
   // §3.4: point matches inside every matched pair, view i with view i.
   std::set<std::tuple<int, int, int>> seen;  // (view, source row, target row): masks may overlap
   for (const ObjectPair& pair : pairs) {
