@@ -113,6 +113,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
 template <typename V>
 void Visit(V& v, MethodConfig& c) {
   v("object_level", c.object_level);
+  v("detection", c.detection);
   v("point_level", c.point_level);
   v("object_centroid_threshold_m", c.object_centroid_threshold_m);
   v("scene_graph", c.scene_graph);

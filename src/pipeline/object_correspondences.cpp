@@ -9,6 +9,7 @@
 
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
+#include "objects/proposals.hpp"
 
 namespace zeroreg {
 namespace {
@@ -131,23 +132,40 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
     timer.Restart();
     out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, config_.lift));
     timer.Mark("features");
-    const std::vector<Detection> detections = detector_.Detect(view.color, view.name);
-    timer.Mark("detect");
-    for (size_t d = 0; d < detections.size(); ++d) {
-      ObjectObservation o;
-      o.view = static_cast<int>(v);
-      o.detection = detections[d];
-      o.mask =
-          segmenter_.Segment(view.color, view.depth, detections[d], static_cast<int>(d), view.name);
+    // Either detections segmented one by one (§3.2), or, without detection, class-agnostic
+    // depth regions that come with their masks.
+    std::vector<ObjectObservation> found;
+    if (config_.method.detection) {
+      const std::vector<Detection> detections = detector_.Detect(view.color, view.name);
+      timer.Mark("detect");
+      for (size_t d = 0; d < detections.size(); ++d) {
+        ObjectObservation o;
+        o.detection = detections[d];
+        o.mask = segmenter_.Segment(view.color, view.depth, detections[d], static_cast<int>(d),
+                                    view.name);
+        found.push_back(std::move(o));
+      }
       timer.Mark("segment");
+    } else {
+      for (Proposal& p : DepthProposals(view.depth)) {
+        ObjectObservation o;
+        o.detection = p.detection;
+        o.mask = std::move(p.mask);
+        o.semantic = ColourHistogram(view.color, o.mask);  // appearance instead of CLIP
+        found.push_back(std::move(o));
+      }
+      timer.Mark("detect");
+    }
+    for (ObjectObservation& o : found) {
+      o.view = static_cast<int>(v);
       o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
-      if (embedder_ != nullptr) {
+      if (embedder_ != nullptr && o.semantic.size() == 0) {
         if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();
       }
-      timer.Mark("objects");
       out.objects.observations.push_back(std::move(o));
     }
+    timer.Mark("objects");
   }
   timer.Restart();
   out.objects.objects = AssociateObservations(out.objects.observations,
@@ -177,8 +195,9 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   if (!objects_s.empty() && !objects_t.empty()) {
     Eigen::MatrixXd sem_s, sem_t, centroids_s(objects_s.size(), 3),
         centroids_t(objects_t.size(), 3);
-    SemanticMatrices(objects_s, objects_t, config_.method.clip && embedder_ != nullptr, &sem_s,
-                     &sem_t);
+    SemanticMatrices(objects_s, objects_t,
+                     !config_.method.detection || (config_.method.clip && embedder_ != nullptr),
+                     &sem_s, &sem_t);
     for (size_t i = 0; i < objects_s.size(); ++i) centroids_s.row(i) = objects_s[i].centroid;
     for (size_t i = 0; i < objects_t.size(); ++i) centroids_t.row(i) = objects_t[i].centroid;
     const Eigen::MatrixXd W_p = BuildAffinityMatrix(centroids_s, sem_s, config_.scene_graph);
@@ -202,10 +221,10 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   if (!config_.method.point_level) {
     // Table 4 row (b): the matched objects' centroids are the only correspondences.
     for (const ObjectPair& pair : pairs) {
-      result.correspondences.push_back(
-          {objects_s[pair.source].centroid, objects_t[pair.target].centroid,
-           Eigen::Vector2f::Zero(), Eigen::Vector2f::Zero(), 0,
-           static_cast<float>(pair.node_similarity)});
+      result.correspondences.push_back({objects_s[pair.source].centroid,
+                                        objects_t[pair.target].centroid, Eigen::Vector2f::Zero(),
+                                        Eigen::Vector2f::Zero(), 0,
+                                        static_cast<float>(pair.node_similarity)});
       result.object_matches.push_back({pair.source, pair.target, pair.node_similarity, 1});
     }
     result.path = "object-centroids";

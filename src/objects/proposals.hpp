@@ -1,0 +1,29 @@
+// Class-agnostic object proposals for the "w/o detection" ablation (issue 3): regions of the depth
+// image bounded by depth discontinuities, with a colour-histogram appearance feature standing in
+// for the label's CLIP feature, so that objects are matched by graph structure and appearance.
+#pragma once
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "detect/detector.hpp"
+
+namespace zeroreg {
+
+struct Proposal {
+  Detection detection;  // label "object", score = the region's share of the valid depth
+  cv::Mat mask;         // CV_8UC1, image size
+};
+
+// Connected regions of valid depth separated by jumps larger than `relative_jump` x depth,
+// keeping regions covering between min_area_fraction and max_area_fraction of the image (large
+// ones are walls, floors, table tops: structure, not objects).
+std::vector<Proposal> DepthProposals(const cv::Mat& depth_m, double relative_jump = 0.03,
+                                     double min_area_fraction = 0.005,
+                                     double max_area_fraction = 0.25);
+
+// L2-normalised 8x4x4 HSV histogram of the masked pixels (appearance feature, 128-d).
+Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask);
+
+}  // namespace zeroreg
