@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 
@@ -6,6 +7,7 @@
 #include "config_options.hpp"
 #include "eval/metrics.hpp"
 #include "viz/pictures.hpp"
+#include "viz/ply.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -15,7 +17,7 @@ namespace zeroreg::cli {
 namespace {
 
 struct RegisterOptions {
-  std::string source, target, out, gt, viz;
+  std::string source, target, out, gt, viz, out_dir;
   double depth_scale = 0.0;
   bool with_correspondences = false;
   ConfigOptions config;
@@ -44,6 +46,11 @@ Runner AddRegisterCommand(CLI::App& app) {
   app.add_option("--viz", o->viz,
                  "write pictures (objects, correspondences, registered clouds) per view pair "
                  "into this folder");
+  app.add_option("--out-dir", o->out_dir,
+                 "write DIR/result.json (as --out), DIR/pictures/ (as --viz) and the clouds as "
+                 "coloured PLY: DIR/registered.ply (target blue, source moved into the target "
+                 "frame orange), DIR/source.ply and DIR/target.ply (own frames and colours); "
+                 "`zeroreg report DIR` makes a page of it");
   app.add_flag("--with-correspondences", o->with_correspondences,
                "include every 3D correspondence in the JSON result");
   AddConfigOptions(app, &o->config);
@@ -106,6 +113,24 @@ Runner AddRegisterCommand(CLI::App& app) {
       if (!file) throw MakeInputError(o->out, "cannot write the result file");
       file << out.dump(2) << "\n";
       std::printf("result written to %s\n", o->out.c_str());
+    }
+    if (!o->out_dir.empty()) {
+      const std::filesystem::path dir(o->out_dir);
+      std::error_code ec;
+      std::filesystem::create_directories(dir, ec);
+      if (ec) throw MakeInputError(o->out_dir, "cannot create the folder (" + ec.message() + ")");
+      const std::string json_path = (dir / "result.json").string();
+      std::ofstream file(json_path);
+      if (!file) throw MakeInputError(json_path, "cannot write the result file");
+      file << out.dump(2) << "\n";
+      const auto pictures =
+          WriteRegistrationPictures((dir / "pictures").string(), source, target, result);
+      const RegisteredPlyFiles ply =
+          WriteRegisteredPly(o->out_dir, source, target, result.T_target_source);
+      std::printf(
+          "result, %zu pictures and registered.ply (%zu target + %zu source points) "
+          "written to %s\n",
+          pictures.size(), ply.num_target, ply.num_source, o->out_dir.c_str());
     }
     return result.valid ? kExitOk : kExitRegistrationFailed;
   };

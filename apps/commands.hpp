@@ -18,5 +18,6 @@ Runner AddRegisterCommand(CLI::App& app);
 Runner AddFuseCommand(CLI::App& app);
 Runner AddInfoCommand(CLI::App& app);
 Runner AddEvalCommand(CLI::App& app);
+Runner AddReportCommand(CLI::App& app);
 
 }  // namespace zeroreg::cli

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   add("fuse", AddFuseCommand, "TSDF-fuse frames into a 3DMatch-style fragment (cached)");
   add("info", AddInfoCommand, "show the effective config, assets and a scan's contents");
   add("eval", AddEvalCommand, "evaluate on 3DMatch/3DLoMatch or frame pairs, with baselines");
+  add("report", AddReportCommand, "make a self-contained HTML page of a register or eval folder");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -11,12 +11,14 @@ set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
 
+# chromium: only for the test that opens `zeroreg report` pages headless (tests/viz/).
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   googletest libgtest-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
   clang-format
+  chromium
 )
 
 missing=()
