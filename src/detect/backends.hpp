@@ -40,6 +40,9 @@ class DarknetDetector : public Detector {
   static constexpr int kInputSize = 320;
 
  private:
+  // Throws InputError naming the file if it holds fewer parameters than the network needs.
+  void CheckWeightsSize(const std::string& weights_path) const;
+
   cv::dnn::Net net_;
   std::vector<std::string> classes_;
   std::vector<std::string> output_names_;

@@ -1,7 +1,49 @@
+#include <algorithm>
+#include <cstdint>
+#include <fstream>
+
 #include "detect/backends.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
+namespace {
+
+// Number of float32 parameters a Darknet .weights file holds after its header (major, minor,
+// revision as int32, then "seen" as int64 from version 0.2 on, int32 before), or -1 if the header
+// cannot be read.
+long long WeightsFileFloatCount(const std::string& path) {
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
+  if (!in) return -1;
+  const long long size = static_cast<long long>(in.tellg());
+  in.seekg(0);
+  std::int32_t version[3] = {0, 0, 0};
+  in.read(reinterpret_cast<char*>(version), sizeof(version));
+  if (!in) return -1;
+  const long long header = (version[0] * 10 + version[1] >= 2) ? 20 : 16;
+  return size < header ? -1 : (size - header) / 4;
+}
+
+}  // namespace
+
+void DarknetDetector::CheckWeightsSize(const std::string& weights_path) const {
+  // OpenCV's Darknet importer reads the weights without checking for end of file, so a truncated
+  // file loads "successfully" with garbage parameters. Every value of the file belongs to a
+  // convolution (weights, biases) or its batch norm (scale, mean, variance), which is exactly what
+  // the loaded layers hold: compare the counts.
+  long long needed = 0;
+  for (const std::string& layer_name : net_.getLayerNames()) {
+    const cv::Ptr<cv::dnn::Layer> layer = net_.getLayer(layer_name);
+    if (layer->type != "Convolution" && layer->type != "BatchNorm") continue;
+    for (const cv::Mat& blob : layer->blobs) needed += static_cast<long long>(blob.total());
+  }
+  const long long have = WeightsFileFloatCount(weights_path);
+  if (have < needed) {
+    throw MakeInputError(weights_path, "holds " + std::to_string(std::max(have, 0LL)) +
+                                           " parameters but the cfg's layers need " +
+                                           std::to_string(needed) +
+                                           " (truncated file or mismatched cfg?)");
+  }
+}
 
 DarknetDetector::DarknetDetector(const std::string& cfg_path, const std::string& weights_path,
                                  const std::string& classes_path, const DetectorConfig& config)
@@ -16,13 +58,13 @@ DarknetDetector::DarknetDetector(const std::string& cfg_path, const std::string&
                                            " (corrupt or mismatched files?): " + e.what());
   }
   if (net_.empty()) throw MakeInputError(weights_path, "Darknet network loaded empty");
+  CheckWeightsSize(weights_path);
   net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
   net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
   output_names_ = net_.getUnconnectedOutLayersNames();
 }
 
-std::vector<Detection> DarknetDetector::Detect(const cv::Mat& bgr,
-                                               const std::string& image_name) {
+std::vector<Detection> DarknetDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
   detail::RequireBgrImage(bgr, image_name);
   // Plain resize (the cfg has no letterbox), RGB, /255 (MANIFEST "Input").
   const cv::Mat blob = cv::dnn::blobFromImage(bgr, 1.0 / 255.0, cv::Size(kInputSize, kInputSize),

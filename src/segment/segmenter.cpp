@@ -1,0 +1,340 @@
+#include "segment/segmenter.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <vector>
+
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace {
+
+std::string SizeText(int cols, int rows) {
+  return std::to_string(cols) + "x" + std::to_string(rows);
+}
+
+// Every backend gets the same inputs; checking them here keeps a bad call from reaching OpenCV.
+void RequireInputs(const cv::Mat& bgr, const cv::Mat& depth_m, const std::string& image_name) {
+  const std::string where = image_name.empty() ? std::string("image") : image_name;
+  if (bgr.empty() || bgr.type() != CV_8UC3) {
+    throw MakeInputError(where, "segmenter needs a non-empty 8-bit 3-channel BGR image");
+  }
+  if (depth_m.type() != CV_32FC1 || depth_m.size() != bgr.size()) {
+    throw MakeInputError(
+        where, "segmenter needs a CV_32FC1 depth image of the colour image's size " +
+                   SizeText(bgr.cols, bgr.rows) + ", got " + SizeText(depth_m.cols, depth_m.rows) +
+                   " of type " + std::to_string(depth_m.type()));
+  }
+}
+
+inline bool ValidDepth(float d) { return d > 0.0f && std::isfinite(d); }
+
+// ---------------------------------------------------------------------------------------------
+
+class BoxSegmenter : public Segmenter {
+ public:
+  std::string name() const override { return "box"; }
+  cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
+                  const std::string& image_name) override {
+    RequireInputs(bgr, depth_m, image_name);
+    cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
+    const cv::Rect r = detail::BoxPixelRect(detection.box, bgr.size());
+    for (int v = r.y; v < r.y + r.height; ++v) {
+      const float* d = depth_m.ptr<float>(v);
+      uchar* m = mask.ptr<uchar>(v);
+      for (int u = r.x; u < r.x + r.width; ++u) m[u] = ValidDepth(d[u]) ? 255 : 0;
+    }
+    return mask;
+  }
+};
+
+// ---------------------------------------------------------------------------------------------
+
+class FileSegmenter : public Segmenter {
+ public:
+  explicit FileSegmenter(const SegmenterConfig& config) : masks_dir_(config.masks_dir) {}
+  std::string name() const override { return "file"; }
+  cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection&, int index,
+                  const std::string& image_name) override {
+    RequireInputs(bgr, depth_m, image_name);
+    const std::string path = detail::MaskFilePath(masks_dir_, image_name, index);
+    if (!std::ifstream(path, std::ios::binary)) {
+      throw MakeInputError(path, "cannot open mask " + std::to_string(index) + " of image '" +
+                                     image_name +
+                                     "' (expected <masks_dir>/<image stem>_<index>.png)");
+    }
+    cv::Mat raw;
+    try {
+      raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+    } catch (const cv::Exception& e) {
+      throw MakeInputError(path, std::string("cannot decode mask image: ") + e.what());
+    }
+    if (raw.empty()) {
+      throw MakeInputError(path, "cannot decode mask image (expected an 8-bit single-channel PNG)");
+    }
+    if (raw.type() != CV_8UC1) {
+      throw MakeInputError(path, "mask has " + std::to_string(raw.channels()) + " channel(s) of " +
+                                     std::to_string(8 * static_cast<int>(raw.elemSize1())) +
+                                     "-bit depth, expected a single-channel 8-bit image");
+    }
+    if (raw.size() != bgr.size()) {
+      throw MakeInputError(path, "mask is " + SizeText(raw.cols, raw.rows) + " but image '" +
+                                     image_name + "' is " + SizeText(bgr.cols, bgr.rows) +
+                                     ", expected the same size");
+    }
+    cv::Mat mask;
+    cv::compare(raw, 0, mask, cv::CMP_NE);  // nonzero = inside -> 255
+    return mask;
+  }
+
+ private:
+  std::string masks_dir_;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+// GrabCut (Rother et al. 2004) seeded by the box on a downscaled crop, then the depth layer.
+class GrabCutDepthSegmenter : public Segmenter {
+ public:
+  explicit GrabCutDepthSegmenter(const SegmenterConfig& config) : config_(config) {}
+  std::string name() const override { return "grabcut-depth"; }
+
+  cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
+                  const std::string& image_name) override {
+    RequireInputs(bgr, depth_m, image_name);
+    cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
+    const cv::Rect box = detail::BoxPixelRect(detection.box, bgr.size());
+    if (box.empty()) return mask;
+
+    // Everything after GrabCut works inside the box: depth of the box, and its depth edges
+    // (computed on the box padded by the edge radius so the box border sees its neighbours).
+    const int r = config_.depth_edge_radius_px;
+    const cv::Rect padded = cv::Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
+                            cv::Rect(0, 0, bgr.cols, bgr.rows);
+    const cv::Mat edges_padded =
+        detail::DepthEdgeMask(depth_m(padded), r, config_.depth_edge_relative);
+    const cv::Mat edges =
+        edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height));
+    const cv::Mat depth = depth_m(box);
+
+    const double min_area = config_.min_box_fraction * box.area();
+    const double size_per_metre_depth =
+        std::min(box.width, box.height) / (config_.focal_length_fraction * bgr.cols);
+    cv::Mat seed = GrabCutInBox(bgr, box);
+    cv::Mat result;
+    if (!seed.empty()) {
+      result = DepthLayer(depth, edges, seed, seed, size_per_metre_depth);
+    }
+    if (result.empty() || cv::countNonZero(result) < min_area) {
+      // GrabCut failed or lost the object: the dominant depth layer of the box, found around the
+      // median depth of its central half (objects are centred in their boxes).
+      cv::Mat all(box.size(), CV_8UC1, cv::Scalar(255));
+      cv::Mat centre = cv::Mat::zeros(box.size(), CV_8UC1);
+      centre(cv::Rect(box.width / 4, box.height / 4, std::max(1, box.width / 2),
+                      std::max(1, box.height / 2)))
+          .setTo(255);
+      result = DepthLayer(depth, edges, all, centre, size_per_metre_depth);
+      if (result.empty()) result = DepthLayer(depth, edges, all, all, size_per_metre_depth);
+    }
+    if (!result.empty()) result.copyTo(mask(box));
+    return mask;
+  }
+
+ private:
+  // GrabCut on the crop around `box`; returns the foreground (255) in box coordinates, or an
+  // empty Mat when GrabCut cannot run (box too small at the working resolution, or no
+  // background/foreground samples).
+  cv::Mat GrabCutInBox(const cv::Mat& bgr, const cv::Rect& box) const {
+    const int longer = std::max(box.width, box.height);
+    // Margin: a fraction of the box, but at least ~4 working pixels (with the scale estimated from
+    // the crop with the fractional margin).
+    const double fraction_margin = config_.crop_margin_fraction * longer;
+    const double scale_estimate =
+        std::min(1.0, config_.working_size_px / (longer + 2.0 * fraction_margin));
+    const int margin = static_cast<int>(std::ceil(std::max(fraction_margin, 4.0 / scale_estimate)));
+    const cv::Rect crop =
+        cv::Rect(box.x - margin, box.y - margin, box.width + 2 * margin, box.height + 2 * margin) &
+        cv::Rect(0, 0, bgr.cols, bgr.rows);
+    // The crop (not the box) is brought to the working size: GrabCut's cost is per crop pixel.
+    const double scale = std::min(
+        1.0, static_cast<double>(config_.working_size_px) / std::max(crop.width, crop.height));
+    const cv::Size small_size(std::max(1, static_cast<int>(std::lround(crop.width * scale))),
+                              std::max(1, static_cast<int>(std::lround(crop.height * scale))));
+    cv::Mat small;
+    cv::resize(bgr(crop), small, small_size, 0, 0, cv::INTER_AREA);
+    const double sx = static_cast<double>(small.cols) / crop.width;
+    const double sy = static_cast<double>(small.rows) / crop.height;
+    // The box in working pixels, kept one pixel off the crop border on every side: GrabCut takes
+    // its background colour model from outside the rectangle and fails when there is none (a box
+    // touching the image border has no margin on that side).
+    int x1 = static_cast<int>(std::floor((box.x - crop.x) * sx));
+    int y1 = static_cast<int>(std::floor((box.y - crop.y) * sy));
+    int x2 = static_cast<int>(std::ceil((box.x + box.width - crop.x) * sx));
+    int y2 = static_cast<int>(std::ceil((box.y + box.height - crop.y) * sy));
+    x1 = std::max(x1, 1);
+    y1 = std::max(y1, 1);
+    x2 = std::min(x2, small.cols - 1);
+    y2 = std::min(y2, small.rows - 1);
+    if (x2 - x1 < 4 || y2 - y1 < 4) return cv::Mat();
+    const cv::Rect rect(x1, y1, x2 - x1, y2 - y1);
+
+    cv::Mat gc_mask, bgd_model, fgd_model;
+    // grabCut's k-means++ initialisation of the GMMs draws from cv::theRNG(): seed it so the mask
+    // does not depend on earlier calls, and restore the caller's generator afterwards.
+    const cv::RNG saved = cv::theRNG();
+    cv::theRNG() = cv::RNG(config_.seed);
+    bool ok = true;
+    try {
+      cv::grabCut(small, gc_mask, rect, bgd_model, fgd_model, config_.grabcut_iterations,
+                  cv::GC_INIT_WITH_RECT);
+    } catch (const cv::Exception&) {
+      ok = false;  // e.g. fewer colour samples than GMM components: use the depth fallback
+    }
+    cv::theRNG() = saved;
+    if (!ok) return cv::Mat();
+
+    cv::Mat fg_small = (gc_mask == cv::GC_FGD) | (gc_mask == cv::GC_PR_FGD);
+    cv::Mat fg_crop;
+    // Bilinear upsampling of the 0/255 mask then a 50% threshold: smoother outlines than nearest.
+    cv::resize(fg_small, fg_crop, crop.size(), 0, 0, cv::INTER_LINEAR);
+    cv::threshold(fg_crop, fg_crop, 127, 255, cv::THRESH_BINARY);
+    return fg_crop(cv::Rect(box.x - crop.x, box.y - crop.y, box.width, box.height)).clone();
+  }
+
+  // Keeps the pixels of `candidates` whose depth lies in the band around the median depth of the
+  // valid pixels of `reference`, that are not on a depth edge, then erodes. Box coordinates.
+  // Returns an empty Mat when `reference` has no valid depth.
+  // `size_per_metre_depth` = box shorter side (px) / focal length (px).
+  cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
+                     const cv::Mat& reference, double size_per_metre_depth) const {
+    std::vector<float> values;
+    values.reserve(static_cast<size_t>(depth.total()));
+    for (int v = 0; v < depth.rows; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uchar* ref = reference.ptr<uchar>(v);
+      for (int u = 0; u < depth.cols; ++u) {
+        if (ref[u] && ValidDepth(d[u])) values.push_back(d[u]);
+      }
+    }
+    if (values.empty()) return cv::Mat();
+    const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+    std::nth_element(values.begin(), mid, values.end());
+    const double median = *mid;
+    // S = the box's shorter side in metres at the median depth (pinhole: pixels * depth / focal).
+    const double size_m = size_per_metre_depth * median;
+    const double band =
+        std::max(config_.depth_band_min_m,
+                 config_.depth_band_relative * median + config_.depth_band_size_factor * size_m);
+
+    cv::Mat out = cv::Mat::zeros(depth.size(), CV_8UC1);
+    for (int v = 0; v < depth.rows; ++v) {
+      const float* d = depth.ptr<float>(v);
+      const uchar* c = candidates.ptr<uchar>(v);
+      const uchar* e = edges.ptr<uchar>(v);
+      uchar* o = out.ptr<uchar>(v);
+      for (int u = 0; u < depth.cols; ++u) {
+        o[u] = (c[u] && !e[u] && ValidDepth(d[u]) && std::abs(d[u] - median) <= band) ? 255 : 0;
+      }
+    }
+    if (config_.erosion_px > 0) {
+      cv::erode(out, out, cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3)),
+                cv::Point(-1, -1), config_.erosion_px);
+    }
+    return out;
+  }
+
+  SegmenterConfig config_;
+};
+
+}  // namespace
+
+std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config) {
+  auto require = [](bool ok, const std::string& field, const std::string& value,
+                    const std::string& expected) {
+    if (!ok) throw MakeInputError("segmenter." + field, "is " + value + ", expected " + expected);
+  };
+  const auto num = [](double x) { return std::to_string(x); };
+  if (config.backend == "box") return std::make_unique<BoxSegmenter>();
+  if (config.backend == "file") {
+    if (config.masks_dir.empty()) {
+      throw MakeInputError("segmenter.masks_dir",
+                           "is empty; the 'file' segmenter needs the folder of "
+                           "<image stem>_<index>.png masks");
+    }
+    return std::make_unique<FileSegmenter>(config);
+  }
+  if (config.backend != "grabcut-depth") {
+    throw MakeInputError("segmenter.backend", "unknown backend '" + config.backend +
+                                                  "', expected one of: grabcut-depth, box, file");
+  }
+  require(config.grabcut_iterations >= 1 && config.grabcut_iterations <= 100, "grabcut_iterations",
+          std::to_string(config.grabcut_iterations), "1..100");
+  require(config.working_size_px >= 16 && config.working_size_px <= 4096, "working_size_px",
+          std::to_string(config.working_size_px), "16..4096 pixels");
+  require(config.crop_margin_fraction >= 0.0 && config.crop_margin_fraction <= 2.0,
+          "crop_margin_fraction", num(config.crop_margin_fraction), "a value in [0, 2]");
+  require(config.depth_band_min_m > 0.0 && std::isfinite(config.depth_band_min_m),
+          "depth_band_min_m", num(config.depth_band_min_m), "a positive distance in metres");
+  require(config.depth_band_relative >= 0.0 && std::isfinite(config.depth_band_relative),
+          "depth_band_relative", num(config.depth_band_relative), "a value >= 0");
+  require(config.depth_band_size_factor >= 0.0 && std::isfinite(config.depth_band_size_factor),
+          "depth_band_size_factor", num(config.depth_band_size_factor), "a value >= 0");
+  require(config.focal_length_fraction > 0.0 && std::isfinite(config.focal_length_fraction),
+          "focal_length_fraction", num(config.focal_length_fraction), "a value > 0");
+  require(config.depth_edge_radius_px >= 0 && config.depth_edge_radius_px <= 64,
+          "depth_edge_radius_px", std::to_string(config.depth_edge_radius_px), "0..64 pixels");
+  require(config.depth_edge_relative > 0.0 && std::isfinite(config.depth_edge_relative),
+          "depth_edge_relative", num(config.depth_edge_relative), "a value > 0");
+  require(config.erosion_px >= 0 && config.erosion_px <= 64, "erosion_px",
+          std::to_string(config.erosion_px), "0..64 pixels");
+  require(config.min_box_fraction >= 0.0 && config.min_box_fraction <= 1.0, "min_box_fraction",
+          num(config.min_box_fraction), "a value in [0, 1]");
+  return std::make_unique<GrabCutDepthSegmenter>(config);
+}
+
+namespace detail {
+
+cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size) {
+  // Pixel u is inside when x1 <= u + 0.5 < x2, i.e. ceil(x1 - 0.5) <= u < ceil(x2 - 0.5).
+  const int x1 = std::max(0, static_cast<int>(std::ceil(box.x - 0.5)));
+  const int y1 = std::max(0, static_cast<int>(std::ceil(box.y - 0.5)));
+  const int x2 = std::min(size.width, static_cast<int>(std::ceil(box.x + box.width - 0.5)));
+  const int y2 = std::min(size.height, static_cast<int>(std::ceil(box.y + box.height - 0.5)));
+  if (x2 <= x1 || y2 <= y1) return cv::Rect();
+  return cv::Rect(x1, y1, x2 - x1, y2 - y1);
+}
+
+cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative) {
+  cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8UC1);
+  if (radius <= 0 || depth_m.empty()) return edges;
+  // Invalid readings (0, NaN, inf) become 0 so that the window minimum sees them.
+  cv::Mat depth = depth_m.clone();
+  depth.forEach<float>([](float& d, const int*) {
+    if (!ValidDepth(d)) d = 0.0f;
+  });
+  const cv::Mat kernel = cv::Mat::ones(2 * radius + 1, 2 * radius + 1, CV_8UC1);
+  cv::Mat lo, hi;
+  // Image borders do not count as jumps: erode/dilate pad with +max / -max by default.
+  cv::erode(depth, lo, kernel);
+  cv::dilate(depth, hi, kernel);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const float* l = lo.ptr<float>(v);
+    const float* h = hi.ptr<float>(v);
+    uchar* e = edges.ptr<uchar>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (d[u] > 0.0f && (l[u] <= 0.0f || h[u] - l[u] > relative * d[u])) e[u] = 255;
+    }
+  }
+  return edges;
+}
+
+std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index) {
+  return masks_dir + "/" + ImageStem(image_name) + "_" + std::to_string(index) + ".png";
+}
+
+}  // namespace detail
+}  // namespace zeroreg
