@@ -19,22 +19,26 @@ results="${RESULTS:-results}"
 read -r -a extra <<< "${EXTRA:-}"
 
 # ---- The rows: id | label | paper's 3DMatch RR / IR | options of `zeroreg eval 3dmatch` -------
-# To add a row (e.g. when the object level lands: w/o detection, w/o scene graph, w/o CLIP), add
-# one line here with the --set overrides that switch the component off; nothing else changes.
-# The paper's rows we cannot run, and why:
-#   (b) w/o point level, (c) w/o detection, (d) w/o segmentation, (e) w/o scene graph,
-#   (f) w/o CLIP: need the object level, not yet wired into the Pipeline (rows to be added here);
-#   (g) point level with SuperGlue: no SuperGlue (nor LoFTR) weights here; the "mnn" row swaps
-#       the point matcher instead (mutual nearest neighbours for Sinkhorn);
-#   Table 4(b) (YOLOv10 / Florence-2 / SAM v1 / SAM2 combinations): none of those weights here.
+# A row is the full method plus config overrides (MethodConfig in include/zeroreg/config.hpp holds
+# the Table 4 switches). To add a row, add one line with its options; nothing else changes.
+# The paper's rows we cannot run as the paper did, and why:
+#   (g) point level with SuperGlue: no SuperGlue (nor LoFTR) weights here; the "mnn" row swaps the
+#       point matcher instead (mutual nearest neighbours for Sinkhorn);
+#   Table 4(b) (YOLOv10 / Florence-2 / SAM v1 / SAM2 combinations): none of those weights here;
+#       the detector is YOLOX-Nano and the segmenter GrabCut + depth (DESIGN §2).
+#   (d) w/o segmentation is approximated by the "box" segmenter (the detection box as the mask).
 rows=(
-  "full|Full (zeroreg, current default config)|87.2 / 53.9|--method zeroreg"
-  "a|(a) w/o object level: whole-image features (--method image)|73.3 / 50.2|--method image"
-  "sift|point features SIFT instead of XFeat (paper: LoFTR)|-|--method zeroreg --features sift"
+  "full|Full (zeroreg, current default config; = Table 5, 3 views)|87.2 / 53.9 (Lo 52.1 / 26.2)|--method zeroreg"
+  "a|(a) w/o object level: whole-image features|73.3 / 50.2|--method image"
+  "b|(b) w/o point level: object centroids only|71.3 / -|--method zeroreg --set method.point_level=false"
+  "c|(c) w/o detection: depth-region proposals|78.5 / 50.9|--method zeroreg --set method.detection=false"
+  "d|(d) w/o segmentation: box masks|85.1 / 52.8|--method zeroreg --set segmenter.backend=box"
+  "e|(e) w/o scene graph|83.2 / 51.8|--method zeroreg --set method.scene_graph=false"
+  "f|(f) w/o CLIP|84.5 / 52.0|--method zeroreg --set method.clip=false"
   "mnn|point matcher mutual NN instead of Sinkhorn (cf. (g))|81.6 / 51.2 (g)|--method zeroreg --set match.method=mutual_nn"
-  "views1|Table 5: 1 view per fragment|85.2 / 51.9|--method zeroreg --views 1"
-  "views2|Table 5: 2 views per fragment|87.0 / 53.5|--method zeroreg --views 2"
-  "views3|Table 5: 3 views per fragment (= full)|87.2 / 53.9|--method zeroreg --views 3"
+  "sift|point features SIFT instead of XFeat (paper: LoFTR)|-|--method zeroreg --features sift"
+  "views1|Table 5: 1 view per fragment|85.2 / 51.9 (Lo 50.1 / 23.9)|--method zeroreg --views 1"
+  "views2|Table 5: 2 views per fragment|87.0 / 53.5 (Lo 51.8 / 25.6)|--method zeroreg --views 2"
 )
 
 mkdir -p "$results"

@@ -167,7 +167,7 @@ std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m,
   return points;
 }
 
-std::vector<std::string> ImagePathOverrides() { return {}; }
+std::vector<std::string> ImagePathOverrides() { return {"method.object_level=false"}; }
 
 PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig config) {
   if (method == "image") {

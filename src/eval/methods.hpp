@@ -54,8 +54,8 @@ nlohmann::json FpfhConfigToJson(const FpfhConfig& config);
 std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m, double max_depth_m);
 
 // Config overrides ("section.key=value") that select the whole-image feature path of the
-// Pipeline. Empty while that is the Pipeline's only path; the object-level stage adds its switch
-// here when it lands, and --method image fails loudly if a result reports another path.
+// Pipeline (MethodConfig::object_level = false). --method image fails loudly if a result reports
+// another path, so a renamed switch cannot silently evaluate the wrong method.
 std::vector<std::string> ImagePathOverrides();
 
 // The pipeline config a method runs with: `config`, plus ImagePathOverrides() for "image".
