@@ -50,9 +50,15 @@ json ReadJsonFile(const std::string& path) {
 // ---- tables ------------------------------------------------------------------------------------
 
 struct Column {
-  std::string key;    // for report.html#sort=<key>
-  std::string label;  // header text
-  bool numeric = false;
+  Column(std::string key_, std::string label_, bool numeric_, std::string td_class_ = "")
+      : key(std::move(key_)),
+        label(std::move(label_)),
+        numeric(numeric_),
+        td_class(std::move(td_class_)) {}
+  std::string key;       // for report.html#sort=<key>
+  std::string label;     // header text
+  bool numeric = false;  // sorted as numbers, right-aligned
+  std::string td_class;  // extra class of the column's cells (e.g. "wide" for long text)
 };
 
 struct Cell {
@@ -82,7 +88,11 @@ std::string SortableTable(const std::string& id, const std::vector<Column>& colu
     h << "<tr>";
     for (size_t k = 0; k < row.size(); ++k) {
       const bool numeric = k < columns.size() && columns[k].numeric;
-      h << "<td" << (numeric ? " class=\"num\"" : "") << " data-value=\""
+      std::string cls = numeric ? "num" : "";
+      if (k < columns.size() && !columns[k].td_class.empty()) {
+        cls += (cls.empty() ? "" : " ") + columns[k].td_class;
+      }
+      h << "<td" << (cls.empty() ? "" : " class=\"" + cls + "\"") << " data-value=\""
         << HtmlEscape(row[k].sort_value) << "\">" << row[k].html << "</td>";
     }
     h << "</tr>\n";
@@ -260,7 +270,8 @@ table.sortable thead th:hover { background: #dde4ee; }
 table.sortable thead th[aria-sort=ascending]::after { content: " \25B2"; }
 table.sortable thead th[aria-sort=descending]::after { content: " \25BC"; }
 table.sortable tbody tr:nth-child(even) { background: #fafafa; }
-td.reason { max-width: 28em; }
+td.wide { min-width: 16em; max-width: 32em; }
+td.nowrap { white-space: nowrap; }
 .ok { color: #17702a; font-weight: 600; }
 .bad { color: #b3261e; font-weight: 600; }
 .pictures { display: flex; flex-wrap: wrap; gap: 1em; }
@@ -598,7 +609,7 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
   }
 
   std::vector<Column> columns = {{"index", "#", true},
-                                 {"benchmark", "benchmark / scene", false},
+                                 {"benchmark", "benchmark / scene", false, "nowrap"},
                                  {"target", "target i", true},
                                  {"source", "source j", true},
                                  {"verdict", "verdict", false}};
@@ -612,7 +623,7 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
                                              {"correspondences", "correspondences", true},
                                              {"inliers", "inliers", true},
                                              {"time", "time (s)", true},
-                                             {"reason", "reason / error", false},
+                                             {"reason", "reason / error", false, "wide"},
                                              {"pictures", "pictures", false}}) {
     columns.push_back(c);
   }
@@ -627,7 +638,10 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
     } else {
       row.push_back(Html(Verdict(p.valid), p.valid ? "valid" : "failed"));
     }
-    if (any_recall) {
+    if (any_recall && failed_to_run) {
+      row.push_back(Missing());
+      row.push_back(Missing());
+    } else if (any_recall) {
       if (p.consecutive) {
         row.push_back(Text(std::string(p.registered ? "yes" : "no") + " (consecutive)"));
       } else {
@@ -680,7 +694,7 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
         << PicturesHtml(FindPictures(picture_dirs[i]), config, &embedded) << "</section>\n";
     }
   }
-  if (summary.contains("command")) {
+  if (md.empty() && summary.contains("command")) {  // summary.md shows the command
     h << "<h2>Run</h2>\n<p>Command: <code>" << HtmlEscape(StringOr(summary, "command"))
       << "</code></p>\n";
   }
