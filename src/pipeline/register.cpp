@@ -181,7 +181,9 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
     return;
   }
   m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets));
-  m.segmenter = MakeSegmenter(config.segmenter);
+  SegmenterConfig segmenter = config.segmenter;
+  segmenter.seed = config.seed;  // every random step derives its seed from the pipeline's
+  m.segmenter = MakeSegmenter(segmenter);
   if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
   m.source = std::make_unique<ObjectCorrespondenceSource>(
       m.config, *m.extractor, *m.detector, *m.segmenter, m.embedder.get(), *m.matcher);
