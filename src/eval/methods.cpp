@@ -36,6 +36,7 @@ class ZeroregMethod : public PairMethod {
     out.T_target_source = r.T_target_source;
     out.valid = r.valid;
     out.reason = r.reason;
+    out.path = r.path;
     out.correspondences = std::move(r.correspondences);
     out.num_inliers = r.num_inliers;
     return out;
@@ -61,6 +62,7 @@ class FpfhMethod : public PairMethod {
     const auto src = Prepare(source);
     const auto tgt = Prepare(target);
     MethodOutput out;
+    out.path = "fpfh";
     if (src.cloud->points_.size() < 3 || tgt.cloud->points_.size() < 3) {
       out.reason = "fewer than 3 points after voxel down-sampling";
       return out;

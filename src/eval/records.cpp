@@ -73,6 +73,7 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
   r.consecutive = task.consecutive;
   r.valid = output.valid;
   r.reason = output.reason;
+  r.path = output.path;
   r.T_est = RoundLikeLogFile(output.T_target_source);
   r.T_gt = T_gt;
   r.rotation_error_deg = RotationErrorDeg(r.T_est, T_gt);
@@ -115,6 +116,7 @@ json PairRecordToJson(const PairRecord& r) {
          {"method", r.method},
          {"valid", r.valid},
          {"reason", r.reason},
+         {"path", r.path},
          {"T_est", TransformToJson(r.T_est)},
          {"T_gt", TransformToJson(r.T_gt)},
          {"rotation_error_deg", r.rotation_error_deg},
@@ -142,6 +144,7 @@ PairRecord PairRecordFromJson(const json& j, const std::string& where) {
   r.method = Get<std::string>(j, "method", where);
   r.valid = Get<bool>(j, "valid", where);
   r.reason = Get<std::string>(j, "reason", where);
+  if (j.contains("path")) r.path = Get<std::string>(j, "path", where);
   if (j.contains("error")) r.error = Get<std::string>(j, "error", where);
   r.T_est = TransformFromJson(j.value("T_est", json()), where + " T_est");
   r.T_gt = TransformFromJson(j.value("T_gt", json()), where + " T_gt");

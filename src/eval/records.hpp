@@ -46,6 +46,7 @@ struct PairRecord {
   bool consecutive = false;
   bool valid = false;  // the method's own verdict
   std::string reason;
+  std::string path;  // e.g. "object", "image", "image-fallback" (zeroreg); "fpfh"
   // Set when the pair could not be run (an exception); such records are re-run on resume.
   std::string error;
   // The estimate exactly as est.log stores it (rounded to its 9 significant digits), so that an
@@ -70,6 +71,7 @@ struct MethodOutput {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
   std::string reason;
+  std::string path;  // which correspondence source produced it (RegistrationResult::path)
   std::vector<Correspondence> correspondences;  // for the inlier ratio under the GT pose
   int num_inliers = 0;
 };

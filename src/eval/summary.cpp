@@ -49,6 +49,16 @@ std::string Format(const char* format, double value) {
 }
 std::string Percent(double fraction) { return Format("%.1f", 100.0 * fraction); }
 
+// "object 90, image-fallback 32": how many finished pairs each correspondence path produced.
+std::string PathsText(const std::map<std::string, int>& paths) {
+  std::string text;
+  for (const auto& [path, count] : paths) {
+    text += (text.empty() ? "" : ", ") + (path.empty() ? std::string("?") : path) + " " +
+            std::to_string(count);
+  }
+  return text;
+}
+
 }  // namespace
 
 Stats ComputeStats(std::vector<double> values) {
@@ -88,6 +98,7 @@ std::vector<MatchBenchmarkSummary> SummarizeMatch(const std::vector<PairTask>& t
         if (it == done.end()) continue;
         const PairRecord& r = *it->second;
         ++finished;
+        ++s.paths[r.path];
         total_time_ms += r.time_ms;
         if (r.valid) ++s.num_valid;
         ir_sum += r.inlier_ratio;
@@ -135,6 +146,7 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
       const auto it = done.find(t.Key());
       if (it == done.end()) continue;
       ++s.num_done;
+      ++s.paths[it->second->path];
       if (it->second->valid) ++s.num_valid;
       rot.push_back(it->second->rotation_error_deg);
       trans_cm.push_back(100.0 * it->second->translation_error_m);
@@ -172,7 +184,8 @@ json ToJson(const MatchBenchmarkSummary& s) {
           {"feature_match_recall", s.feature_match_recall},
           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
           {"translation_error_cm", StatsJson(s.translation_error_cm)},
-          {"mean_time_s", s.mean_time_s}};
+          {"mean_time_s", s.mean_time_s},
+          {"paths", s.paths}};
 }
 
 json ToJson(const FramePairSummary& s) {
@@ -192,15 +205,16 @@ json ToJson(const FramePairSummary& s) {
           {"translation_accuracy_cm", trans_acc},
           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
           {"translation_error_cm", StatsJson(s.translation_error_cm)},
-          {"mean_time_s", s.mean_time_s}};
+          {"mean_time_s", s.mean_time_s},
+          {"paths", s.paths}};
 }
 
 std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summaries) {
   std::ostringstream md;
   md << "| benchmark | pairs | done | evaluated (j > i+1) | registered | RR (%) | IR (%) | "
         "FMR (%) | RE mean / med (deg) | TE mean / med (cm) | valid verdicts | time / pair (s) "
-        "|\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "| paths |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const MatchBenchmarkSummary& s : summaries) {
     md << "| " << s.benchmark << " | " << s.num_pairs << " | " << s.num_done << " | "
        << s.num_evaluated << " | " << s.num_registered << " | " << Percent(s.registration_recall)
@@ -209,7 +223,7 @@ std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summa
        << Format("%.2f", s.rotation_error_deg.median) << " | "
        << Format("%.1f", s.translation_error_cm.mean) << " / "
        << Format("%.1f", s.translation_error_cm.median) << " | " << s.num_valid << " | "
-       << Format("%.2f", s.mean_time_s) << " |\n";
+       << Format("%.2f", s.mean_time_s) << " | " << PathsText(s.paths) << " |\n";
   }
   return md.str();
 }
@@ -217,8 +231,9 @@ std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summa
 std::string FramePairSummaryMarkdown(const std::vector<FramePairSummary>& summaries) {
   std::ostringstream md;
   md << "| benchmark | pairs | done | RE acc 5 / 10 / 45 deg (%) | RE mean / med (deg) | "
-        "TE acc 5 / 10 / 25 cm (%) | TE mean / med (cm) | valid verdicts | time / pair (s) |\n";
-  md << "|---|---|---|---|---|---|---|---|---|\n";
+        "TE acc 5 / 10 / 25 cm (%) | TE mean / med (cm) | valid verdicts | time / pair (s) | "
+        "paths |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|\n";
   for (const FramePairSummary& s : summaries) {
     auto accuracies = [](const std::vector<double>& a) {
       std::string text;
@@ -230,7 +245,7 @@ std::string FramePairSummaryMarkdown(const std::vector<FramePairSummary>& summar
        << " / " << Format("%.2f", s.rotation_error_deg.median) << " | "
        << accuracies(s.translation_accuracy) << " | " << Format("%.1f", s.translation_error_cm.mean)
        << " / " << Format("%.1f", s.translation_error_cm.median) << " | " << s.num_valid << " | "
-       << Format("%.2f", s.mean_time_s) << " |\n";
+       << Format("%.2f", s.mean_time_s) << " | " << PathsText(s.paths) << " |\n";
   }
   return md.str();
 }

@@ -13,6 +13,7 @@
 //   method's verdict, the fraction with RE < 5/10/45 deg and TE < 5/10/25 cm, and mean / median.
 #pragma once
 
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -40,7 +41,8 @@ struct MatchBenchmarkSummary {
   double feature_match_recall = 0;  // fraction, averaged per scene
   Stats rotation_error_deg;         // registered evaluated pairs
   Stats translation_error_cm;
-  double mean_time_s = 0;  // per finished pair
+  double mean_time_s = 0;            // per finished pair
+  std::map<std::string, int> paths;  // finished pairs per correspondence path
 };
 
 struct FramePairSummary {
@@ -52,6 +54,7 @@ struct FramePairSummary {
   std::vector<double> rotation_accuracy, translation_accuracy;
   Stats rotation_error_deg, translation_error_cm;
   double mean_time_s = 0;
+  std::map<std::string, int> paths;  // finished pairs per correspondence path
 };
 
 // `tasks` is the run's selection (it gives the denominators); `records` may hold more or fewer

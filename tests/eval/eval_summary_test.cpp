@@ -57,6 +57,7 @@ MethodOutput Output(const Transform& T, std::vector<Correspondence> c) {
   MethodOutput o;
   o.T_target_source = T;
   o.valid = true;
+  o.path = "object";
   o.correspondences = std::move(c);
   return o;
 }
@@ -76,10 +77,12 @@ TEST(EvalSummary, OneSuccessOneFailureOneConsecutiveGiveRecallOneHalf) {
   const PairTask c = MatchTask("3DMatch", 0, 1, gt);  // consecutive: never counted in RR
   const Transform near = gt * Pose(2, 0.03, 0, 0);
   const Transform far = gt * Pose(0, 0.5, 0, 0);
+  MethodOutput fallback = Output(far, Correspondences(gt, 1, 0));
+  fallback.path = "image-fallback";
   const std::vector<PairRecord> records = {
       ScorePair(a, "m", Output(near, Correspondences(gt, 3, 1)), gt, 1000),
       ScorePair(b, "m", Output(far, Correspondences(gt, 0, 10)), gt, 3000),
-      ScorePair(c, "m", Output(far, Correspondences(gt, 1, 0)), gt, 2000)};
+      ScorePair(c, "m", fallback, gt, 2000)};
   // By hand, with Info = I: E = |t|^2 + |q_xyz|^2 of inv(gt) * est.
   ASSERT_TRUE(records[0].recall_error.has_value());
   EXPECT_NEAR(*records[0].recall_error, 0.03 * 0.03 + std::pow(std::sin(M_PI / 180.0), 2), 1e-8);
@@ -104,6 +107,9 @@ TEST(EvalSummary, OneSuccessOneFailureOneConsecutiveGiveRecallOneHalf) {
   EXPECT_NEAR(s.translation_error_cm.median, 3.0, 1e-5);
   EXPECT_NEAR(s.mean_time_s, 2.0, 1e-12);
   EXPECT_EQ(s.num_valid, 3);
+  EXPECT_EQ(s.paths, (std::map<std::string, int>{{"object", 2}, {"image-fallback", 1}}));
+  EXPECT_NE(MatchSummaryMarkdown(summaries).find("| image-fallback 1, object 2 |"),
+            std::string::npos);
 }
 
 TEST(EvalSummary, MissingPairsCountAsFailuresAndScenesAreAveraged) {
