@@ -1,5 +1,7 @@
 #include "estimate/icp.hpp"
 
+#include "estimate/lift.hpp"
+
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
@@ -9,21 +11,7 @@ namespace zeroreg {
 
 std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double voxel_m) {
   open3d::geometry::PointCloud cloud;
-  if (!scan.points.empty()) {
-    cloud.points_ = scan.points;
-  } else {
-    for (const View& view : scan.views) {
-      const Intrinsics& K = view.intrinsics;
-      for (int y = 0; y < view.depth.rows; y += 2) {
-        for (int x = 0; x < view.depth.cols; x += 2) {
-          const float z = view.depth.at<float>(y, x);
-          if (z <= 0) continue;
-          const Eigen::Vector4d p((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z, 1.0);
-          cloud.points_.push_back((view.T_scan_camera * p).head<3>());
-        }
-      }
-    }
-  }
+  cloud.points_ = ScanPoints(scan, /*stride=*/2);
   return cloud.VoxelDownSample(voxel_m)->points_;
 }
 

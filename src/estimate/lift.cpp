@@ -29,4 +29,32 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
   return (view.T_scan_camera * camera_point).head<3>();
 }
 
+std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride, double min_depth_m,
+                                             double max_depth_m) {
+  std::vector<Eigen::Vector3d> points;
+  const Intrinsics& K = view.intrinsics;
+  const Eigen::Matrix3d R = view.T_scan_camera.topLeftCorner<3, 3>();
+  const Eigen::Vector3d t = view.T_scan_camera.topRightCorner<3, 1>();
+  for (int y = 0; y < view.depth.rows; y += stride) {
+    const float* row = view.depth.ptr<float>(y);
+    for (int x = 0; x < view.depth.cols; x += stride) {
+      const double z = row[x];
+      if (!(z > 0 && z >= min_depth_m && z <= max_depth_m)) continue;
+      points.push_back(R * Eigen::Vector3d((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z) + t);
+    }
+  }
+  return points;
+}
+
+std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride, double min_depth_m,
+                                        double max_depth_m) {
+  if (!scan.points.empty()) return scan.points;
+  std::vector<Eigen::Vector3d> points;
+  for (const View& view : scan.views) {
+    const std::vector<Eigen::Vector3d> p = BackProjectView(view, stride, min_depth_m, max_depth_m);
+    points.insert(points.end(), p.begin(), p.end());
+  }
+  return points;
+}
+
 }  // namespace zeroreg

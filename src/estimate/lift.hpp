@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <vector>
 
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
@@ -14,5 +15,15 @@ namespace zeroreg {
 // [min_depth_m, max_depth_m], or on a depth edge (see LiftConfig).
 std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f& pixel,
                                          const LiftConfig& config);
+
+// Back-projects every `stride`-th pixel (in x and y) whose depth lies in [min_depth_m,
+// max_depth_m] into the scan frame.
+std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride = 1,
+                                             double min_depth_m = 0.0, double max_depth_m = 1e9);
+
+// The geometry of a scan: its point cloud when it has one, else all its views back-projected
+// (BackProjectView with the same arguments).
+std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride = 1, double min_depth_m = 0.0,
+                                        double max_depth_m = 1e9);
 
 }  // namespace zeroreg

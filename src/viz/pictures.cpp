@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "estimate/lift.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -51,21 +52,6 @@ void Caption(cv::Mat& canvas, const std::string& text) {
               cv::Scalar(0, 0, 0), 3);
   cv::putText(canvas, text, cv::Point(8, canvas.rows - 10), cv::FONT_HERSHEY_SIMPLEX, 0.5,
               cv::Scalar(255, 255, 255), 1);
-}
-
-// Back-projects every `stride`-th valid depth pixel of `view` into the scan frame.
-std::vector<Eigen::Vector3d> DepthPoints(const View& view, int stride) {
-  std::vector<Eigen::Vector3d> points;
-  const Intrinsics& K = view.intrinsics;
-  for (int y = 0; y < view.depth.rows; y += stride) {
-    for (int x = 0; x < view.depth.cols; x += stride) {
-      const float z = view.depth.at<float>(y, x);
-      if (z <= 0) continue;
-      const Eigen::Vector4d p((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z, 1.0);
-      points.push_back((view.T_scan_camera * p).head<3>());
-    }
-  }
-  return points;
 }
 
 }  // namespace
@@ -153,15 +139,8 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
       }
     }
   };
-  std::vector<Eigen::Vector3d> target_points, source_points;
-  for (const View& v : target.views) {
-    const auto p = DepthPoints(v, 3);
-    target_points.insert(target_points.end(), p.begin(), p.end());
-  }
-  for (const View& v : source.views) {
-    const auto p = DepthPoints(v, 3);
-    source_points.insert(source_points.end(), p.begin(), p.end());
-  }
+  const std::vector<Eigen::Vector3d> target_points = ScanPoints(target, 3),
+                                     source_points = ScanPoints(source, 3);
   // Interleave draw order by splitting each cloud in halves, so neither colour always wins.
   const size_t hs = source_points.size() / 2, ht = target_points.size() / 2;
   const std::vector<Eigen::Vector3d> s1(source_points.begin(), source_points.begin() + hs),
