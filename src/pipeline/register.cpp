@@ -115,9 +115,33 @@ void Estimate(std::vector<Correspondence> correspondences, const PipelineConfig&
   DecideVerdict(config.ransac, r);
 }
 
-// Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement.
+// Inlier flags, count, ratio, RMSE and spread of the correspondences under r->T_target_source.
+void UpdateInlierStats(double threshold_m, RegistrationResult* r) {
+  const Eigen::Matrix3d R = r->T_target_source.topLeftCorner<3, 3>();
+  const Eigen::Vector3d t = r->T_target_source.topRightCorner<3, 1>();
+  r->is_inlier.assign(r->correspondences.size(), false);
+  r->num_inliers = 0;
+  double sum_sq = 0;
+  for (size_t i = 0; i < r->correspondences.size(); ++i) {
+    const Correspondence& c = r->correspondences[i];
+    const double d2 = (R * c.source + t - c.target).squaredNorm();
+    if (d2 < threshold_m * threshold_m) {
+      r->is_inlier[i] = true;
+      ++r->num_inliers;
+      sum_sq += d2;
+    }
+  }
+  r->inlier_ratio = r->correspondences.empty()
+                        ? 0.0
+                        : static_cast<double>(r->num_inliers) / r->correspondences.size();
+  r->inlier_rmse = r->num_inliers > 0 ? std::sqrt(sum_sq / r->num_inliers) : 0.0;
+  r->inlier_spread_m = InlierSpread(*r);
+}
+
+// Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement. The inlier
+// statistics then describe the refined transform.
 void Refine(const Scan& source, const Scan& target, const RefineConfig& config,
-            RegistrationResult* r) {
+            double inlier_threshold_m, RegistrationResult* r) {
   const IcpResult icp =
       RefinePointToPlane(ScanGeometry(source, config.voxel_m), ScanGeometry(target, config.voxel_m),
                          r->T_target_source, config);
@@ -126,6 +150,7 @@ void Refine(const Scan& source, const Scan& target, const RefineConfig& config,
   char note[160];
   if (moved_m <= config.max_translation_change_m && turned_deg <= config.max_rotation_change_deg) {
     r->T_target_source = icp.T_target_source;
+    UpdateInlierStats(inlier_threshold_m, r);
     std::snprintf(note, sizeof(note), "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg)",
                   icp.fitness, moved_m * 100, turned_deg);
   } else {
@@ -233,7 +258,7 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   }
   if (config.refine.enabled && result.valid) {
     timer.Restart();
-    Refine(source, target, config.refine, &result);
+    Refine(source, target, config.refine, config.ransac.inlier_threshold_m, &result);
     timer.Mark("refine");
   }
   double total = 0;
