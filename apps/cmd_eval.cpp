@@ -4,7 +4,6 @@
 //                        --out results/3dmatch [--method zeroreg|image|fpfh] [--views 3]
 //   zeroreg eval pairs --data DIR --gap 20 [--step 10] [--first 0] --out results/pairs-g20
 //   zeroreg eval merge results/shard-0 results/shard-1 ... --out results/merged
-#include <open3d/utility/Logging.h>
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -291,9 +290,6 @@ int RunMerge(const MergeOptions& o) {
 
 Runner AddEvalCommand(CLI::App& app) {
   app.require_subcommand(1);
-  // Open3D's per-fragment warnings ("clamped color value") would bury the progress lines.
-  app.callback(
-      []() { open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error); });
 
   auto m = std::make_shared<MatchOptions>();
   CLI::App* match = app.add_subcommand(

@@ -1,12 +1,16 @@
 // zeroreg: zero-shot registration of RGB-D scans (ZeroReg, CVPR 2025).
 #include <iostream>
 #include <map>
+#include <open3d/utility/Logging.h>
 
 #include "commands.hpp"
 #include "zeroreg/error.hpp"
 
 int main(int argc, char** argv) {
   using namespace zeroreg::cli;
+  // Open3D prints warnings such as "clamped color value" on stdout; they would bury progress lines
+  // and make stdout differ from run to run. Errors still show.
+  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   CLI::App app{"zeroreg: register two RGB-D scans with 2D foundation models, no 3D training"};
   app.require_subcommand(1);
   std::map<CLI::App*, Runner> runners;
