@@ -19,6 +19,13 @@ namespace zeroreg {
 
 namespace {
 
+// The frame ids of an id -> file map, ascending.
+std::vector<int> KeysOf(const std::map<int, std::string>& files) {
+  std::vector<int> ids;
+  for (const auto& [id, file] : files) ids.push_back(id);
+  return ids;
+}
+
 namespace fs = std::filesystem;
 
 constexpr double kThreeDMatchDepthScale = 1000.0;  // millimetres
@@ -137,11 +144,7 @@ class ThreeDMatchDataset : public Dataset {
 
   DatasetLayout layout() const override { return DatasetLayout::kThreeDMatch; }
   const std::string& root() const override { return root_; }
-  std::vector<int> FrameIds() const override {
-    std::vector<int> ids;
-    for (const auto& [id, file] : colors_) ids.push_back(id);
-    return ids;
-  }
+  std::vector<int> FrameIds() const override { return KeysOf(colors_); }
 
   View LoadFrame(int frame_id) const override {
     auto it = colors_.find(frame_id);
@@ -369,11 +372,7 @@ class ScanNetDataset : public Dataset {
 
   DatasetLayout layout() const override { return DatasetLayout::kScanNet; }
   const std::string& root() const override { return root_; }
-  std::vector<int> FrameIds() const override {
-    std::vector<int> ids;
-    for (const auto& [id, file] : colors_) ids.push_back(id);
-    return ids;
-  }
+  std::vector<int> FrameIds() const override { return KeysOf(colors_); }
 
   View LoadFrame(int frame_id) const override {
     auto it = colors_.find(frame_id);

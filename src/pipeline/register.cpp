@@ -140,24 +140,34 @@ void UpdateInlierStats(double threshold_m, RegistrationResult* r) {
 
 // Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement. The inlier
 // statistics then describe the refined transform.
-void Refine(const Scan& source, const Scan& target, const RefineConfig& config,
-            double inlier_threshold_m, RegistrationResult* r) {
+void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeline,
+            RegistrationResult* r) {
+  const RefineConfig& config = pipeline.refine;
   const IcpResult icp =
       RefinePointToPlane(ScanGeometry(source, config.voxel_m), ScanGeometry(target, config.voxel_m),
                          r->T_target_source, config);
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
   char note[160];
-  if (moved_m <= config.max_translation_change_m && turned_deg <= config.max_rotation_change_deg) {
-    r->T_target_source = icp.T_target_source;
-    UpdateInlierStats(inlier_threshold_m, r);
-    std::snprintf(note, sizeof(note), "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg)",
-                  icp.fitness, moved_m * 100, turned_deg);
-  } else {
+  if (moved_m > config.max_translation_change_m || turned_deg > config.max_rotation_change_deg) {
     std::snprintf(note, sizeof(note), "; ICP refinement rejected (would move %.1f cm, %.2f deg)",
                   moved_m * 100, turned_deg);
+    r->reason += note;
+    return;
   }
-  r->reason += note;
+  // The refined transform must pass the same verdict as RANSAC's, on the same correspondences.
+  RegistrationResult refined = *r;
+  refined.T_target_source = icp.T_target_source;
+  UpdateInlierStats(pipeline.ransac.inlier_threshold_m, &refined);
+  DecideVerdict(pipeline.ransac, &refined);
+  if (!refined.valid) {
+    r->reason += "; ICP refinement rejected (" + refined.reason + ")";
+    return;
+  }
+  std::snprintf(note, sizeof(note), "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg)",
+                icp.fitness, moved_m * 100, turned_deg);
+  refined.reason += note;
+  *r = std::move(refined);
 }
 
 // Model files of the configured detector, verified against the repo's sha256 list.
@@ -258,7 +268,7 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   }
   if (config.refine.enabled && result.valid) {
     timer.Restart();
-    Refine(source, target, config.refine, config.ransac.inlier_threshold_m, &result);
+    Refine(source, target, config, &result);
     timer.Mark("refine");
   }
   double total = 0;
