@@ -7,6 +7,7 @@ namespace zeroreg {
 
 std::vector<Proposal> DepthProposals(const cv::Mat& depth_m, double relative_jump,
                                      double min_area_fraction, double max_area_fraction) {
+  if (depth_m.cols < 4 || depth_m.rows < 4) return {};  // nothing to propose in a few pixels
   // Work at quarter resolution: regions, not pixels, matter here, and it keeps this cheap.
   cv::Mat depth;
   cv::resize(depth_m, depth, depth_m.size() / 4, 0, 0, cv::INTER_NEAREST);

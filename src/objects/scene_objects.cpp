@@ -93,6 +93,8 @@ std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservati
   const int n = static_cast<int>(observations.size());
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::set<int>> views_of_root(n);
+  for (int i = 0; i < n; ++i) views_of_root[i].insert(observations[i].view);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
       // Two detections in the same view are different objects (NMS already merged duplicates).
@@ -103,7 +105,15 @@ std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservati
         continue;
       }
       const int a = Find(parent, i), b = Find(parent, j);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      if (a == b) continue;
+      // One object is seen at most once per view: never merge two groups that share a view
+      // (e.g. two chairs in one view that a single wide box of another view overlaps).
+      bool shared_view = false;
+      for (int view : views_of_root[a]) shared_view = shared_view || views_of_root[b].count(view);
+      if (shared_view) continue;
+      const int root = std::min(a, b), child = std::max(a, b);
+      parent[child] = root;
+      views_of_root[root].insert(views_of_root[child].begin(), views_of_root[child].end());
     }
   }
 

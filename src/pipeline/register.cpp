@@ -48,6 +48,7 @@ void CheckScan(const Scan& scan, const std::string& role) {
 
 // Decides the verdict from the estimator's counts (RansacConfig documents the thresholds).
 void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
+  r->valid = false;
   std::ostringstream why;
   if (r->num_correspondences < 3) {
     why << "only " << r->num_correspondences
@@ -242,15 +243,14 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   result.num_keypoints_source = found.num_keypoints_source;
   result.num_keypoints_target = found.num_keypoints_target;
   timer.Restart();
+  // Row (b) of Table 4 judges a handful of centroid pairs, each off by up to a few decimetres;
+  // every later step (fallback, refinement) uses the same effective thresholds.
+  PipelineConfig effective = config;
   if (result.path == "object-centroids") {
-    // Row (b) of Table 4: a handful of centroid pairs, each off by up to a few decimetres.
-    PipelineConfig centroids = config;
-    centroids.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
-    centroids.ransac.min_inliers = 3;
-    Estimate(std::move(found.correspondences), centroids, &result);
-  } else {
-    Estimate(std::move(found.correspondences), config, &result);
+    effective.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
+    effective.ransac.min_inliers = 3;
   }
+  Estimate(std::move(found.correspondences), effective, &result);
   timer.Mark("estimate");
 
   // §3.4 found too little inside the matched objects: match the whole images instead (the
@@ -260,7 +260,7 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
     RegistrationResult fallback = result;
     fallback.correspondences = found.whole_image_fallback();
     timer.Mark("point_match");
-    Estimate(std::move(fallback.correspondences), config, &fallback);
+    Estimate(std::move(fallback.correspondences), effective, &fallback);
     timer.Mark("estimate");
     fallback.path = "image-fallback";
     fallback.reason += " (object level: " + object_reason + ")";
@@ -268,7 +268,7 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   }
   if (config.refine.enabled && result.valid) {
     timer.Restart();
-    Refine(source, target, config, &result);
+    Refine(source, target, effective, &result);
     timer.Mark("refine");
   }
   double total = 0;

@@ -70,7 +70,7 @@ Eigen::MatrixXd SinkhornLogAssignment(const Eigen::MatrixXd& scores, const Sinkh
   // iteration, and is ~50x faster on whole images (2800 x 2200 keypoints: ~0.2 s instead of
   // ~10 s). Otherwise (extreme scores) the log-domain form keeps everything finite.
   const double z_max = z.maxCoeff();
-  if (z_max - z.minCoeff() < 600.0) {
+  if (config.iterations > 0 && z_max - z.minCoeff() < 600.0) {
     const Eigen::MatrixXd K = (z.array() - z_max).exp().matrix();
     const Eigen::VectorXd a = log_a.array().exp().matrix(), b = log_b.array().exp().matrix();
     Eigen::VectorXd u_scale = Eigen::VectorXd::Ones(n + 1), v_scale = Eigen::VectorXd::Ones(m + 1);

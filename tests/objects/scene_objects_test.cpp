@@ -61,6 +61,21 @@ TEST(SceneObjects, AssociatesTheSameObjectAcrossViewsAndDropsSingleViewObjects) 
   EXPECT_EQ(objects[1].observations, (std::vector<int>{1, 3}));
 }
 
+TEST(SceneObjects, NeverMergesTwoObservationsOfTheSameView) {
+  // View 0 sees two chairs side by side; view 1 has one wide "chair" box over both. Overlap alone
+  // would chain all three into one object.
+  const auto chair_a = BoxPoints({0, 0, 2}, {0.4, 0.8, 2.4});
+  const auto chair_b = BoxPoints({0.5, 0, 2}, {0.9, 0.8, 2.4});
+  const auto both = BoxPoints({0, 0, 2}, {0.9, 0.8, 2.4});
+  const auto objects = AssociateObservations(
+      {Observation(0, "chair", 0.8f, chair_a), Observation(0, "chair", 0.7f, chair_b),
+       Observation(1, "chair", 0.6f, both)},
+      2, ObjectsConfig());
+  ASSERT_EQ(objects.size(), 1u);  // chair A with the wide box; chair B alone (one view) is dropped
+  EXPECT_EQ(objects[0].observations, (std::vector<int>{0, 2}));
+  EXPECT_EQ(objects[0].views, (std::vector<int>{0, 1}));
+}
+
 TEST(SceneObjects, SingleViewScanKeepsEveryObject) {
   const std::vector<ObjectObservation> observations = {
       Observation(0, "cup", 0.6f, BoxPoints({0, 0, 1}, {0.1, 0.1, 1.1})),
