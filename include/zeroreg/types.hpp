@@ -97,9 +97,12 @@ struct RegistrationResult {
   int num_keypoints_source = 0;
   int num_keypoints_target = 0;
   int num_correspondences = 0;  // 3D correspondences given to the estimator
-  int num_inliers = 0;          // RANSAC inliers under the final transform
-  double inlier_ratio = 0.0;    // num_inliers / num_correspondences
-  double inlier_rmse = 0.0;     // metres, over the RANSAC inliers
+  // Correspondences within the RANSAC distance of the returned transform (after ICP refinement,
+  // when it ran). `valid` is decided at the RANSAC stage; a refinement is bounded by
+  // RefineConfig's movement limits and does not change the verdict.
+  int num_inliers = 0;
+  double inlier_ratio = 0.0;  // num_inliers / num_correspondences
+  double inlier_rmse = 0.0;   // metres, over the RANSAC inliers
   // Spread of the inliers across their main direction (std. dev. along the second principal axis,
   // metres): small when they lie on a line, which leaves a rotation undetermined.
   double inlier_spread_m = 0.0;
