@@ -54,8 +54,9 @@ struct Correspondence {
   Eigen::Vector3d target = Eigen::Vector3d::Zero();  // target scan frame, metres
   Eigen::Vector2f source_pixel = Eigen::Vector2f::Zero();
   Eigen::Vector2f target_pixel = Eigen::Vector2f::Zero();
-  int view = 0;        // index of the view pair (source view i with target view i)
-  float score = 0.0f;  // matcher confidence (cosine similarity or match probability)
+  int view = 0;         // source view the source pixel is in
+  int target_view = 0;  // target view the target pixel is in (equal to `view` on the object level)
+  float score = 0.0f;   // matcher confidence (cosine similarity or match probability)
 };
 
 // One detection of an object in one view (for the result and the pictures).

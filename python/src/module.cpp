@@ -665,7 +665,15 @@ void BindResult(py::module_& m) {
             return CorrespondenceColumn<std::int32_t>(
                 r, 0, [](const Correspondence& c, std::int32_t* p) { p[0] = c.view; });
           },
-          "(N,) int32, index of the view pair each correspondence came from.")
+          "(N,) int32, source view each correspondence came from.")
+      .def_property_readonly(
+          "correspondence_target_views",
+          [](const RegistrationResult& r) {
+            return CorrespondenceColumn<std::int32_t>(
+                r, 0, [](const Correspondence& c, std::int32_t* p) { p[0] = c.target_view; });
+          },
+          "(N,) int32, target view each correspondence came from (differs from "
+          "correspondence_views only where the whole-image fallback matched different views).")
       .def_property_readonly(
           "scores",
           [](const RegistrationResult& r) {

@@ -112,6 +112,7 @@ def test_result_fields_are_consistent(result_20_0_from_paths):
     assert r.source_pixels.shape == (n, 2) and r.target_pixels.shape == (n, 2)
     assert r.is_inlier.shape == (n,) and r.is_inlier.dtype == np.bool_
     assert r.scores.shape == (n,) and r.correspondence_views.shape == (n,)
+    assert r.correspondence_target_views.shape == (n,)
     assert r.is_inlier.sum() == r.counts["inliers"]
     assert r.inlier_ratio == pytest.approx(r.counts["inliers"] / n)
     # Inliers agree with the transform within the RANSAC threshold (5 cm by default).

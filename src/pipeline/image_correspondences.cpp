@@ -40,6 +40,7 @@ CorrespondenceSet ImageCorrespondenceSource::Find(const Scan& source, const Scan
       c.source_pixel = s.features.keypoints[m.source];
       c.target_pixel = t.features.keypoints[m.target];
       c.view = static_cast<int>(v);
+      c.target_view = static_cast<int>(v);
       c.score = m.score;
       result.correspondences.push_back(c);
     }

@@ -121,6 +121,7 @@ void Visit(V& v, MethodConfig& c) {
   v("label_mask_in_solve", c.label_mask_in_solve);
   v("min_object_matches", c.min_object_matches);
   v("min_object_correspondences", c.min_object_correspondences);
+  v("fallback_all_view_pairs", c.fallback_all_view_pairs);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {
@@ -351,6 +352,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
                       {"source_pixel", {c.source_pixel.x(), c.source_pixel.y()}},
                       {"target_pixel", {c.target_pixel.x(), c.target_pixel.y()}},
                       {"view", c.view},
+                      {"target_view", c.target_view},
                       {"score", c.score},
                       {"inlier", i < r.is_inlier.size() && r.is_inlier[i]}});
     }

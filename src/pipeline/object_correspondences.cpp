@@ -65,17 +65,22 @@ const ObjectObservation* ObservationInView(const SceneObjects& scene, const Scen
   return nullptr;
 }
 
-// Matches features over whole images, view i with view i (the fallback path).
+// Matches features over whole images (the fallback path): view i with view i, or every source
+// view with every target view.
 void AppendWholeImageCorrespondences(const PerceivedScan& s, const PerceivedScan& t,
-                                     const DescriptorMatcher& matcher,
+                                     const DescriptorMatcher& matcher, bool all_view_pairs,
                                      std::vector<Correspondence>* out) {
-  const size_t views = std::min(s.view_features.size(), t.view_features.size());
-  for (size_t v = 0; v < views; ++v) {
-    const LiftedFeatures& a = s.view_features[v];
-    const LiftedFeatures& b = t.view_features[v];
-    for (const DescriptorMatch& m : matcher.Match(a.features.descriptors, b.features.descriptors)) {
-      out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
-                      b.features.keypoints[m.target], static_cast<int>(v), m.score});
+  for (size_t vs = 0; vs < s.view_features.size(); ++vs) {
+    for (size_t vt = 0; vt < t.view_features.size(); ++vt) {
+      if (!all_view_pairs && vs != vt) continue;
+      const LiftedFeatures& a = s.view_features[vs];
+      const LiftedFeatures& b = t.view_features[vt];
+      for (const DescriptorMatch& m :
+           matcher.Match(a.features.descriptors, b.features.descriptors)) {
+        out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
+                        b.features.keypoints[m.target], static_cast<int>(vs), static_cast<int>(vt),
+                        m.score});
+      }
     }
   }
 }
@@ -223,7 +228,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
     for (const ObjectPair& pair : pairs) {
       result.correspondences.push_back({objects_s[pair.source].centroid,
                                         objects_t[pair.target].centroid, Eigen::Vector2f::Zero(),
-                                        Eigen::Vector2f::Zero(), 0,
+                                        Eigen::Vector2f::Zero(), 0, 0,
                                         static_cast<float>(pair.node_similarity)});
       result.object_matches.push_back({pair.source, pair.target, pair.node_similarity, 1});
     }
@@ -249,7 +254,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
         const int a = rows_s[m.source], b = rows_t[m.target];
         if (!seen.emplace(static_cast<int>(v), a, b).second) continue;
         result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],
-                                          ft.features.keypoints[b], static_cast<int>(v), m.score});
+                                          ft.features.keypoints[b], static_cast<int>(v),
+                                          static_cast<int>(v), m.score});
         ++summary.num_correspondences;
       }
     }
@@ -259,9 +265,10 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   timer.Mark("point_match");
 
   const DescriptorMatcher& matcher = matcher_;
-  result.whole_image_fallback = [perceived_s, perceived_t, &matcher]() {
+  const bool all_view_pairs = config_.method.fallback_all_view_pairs;
+  result.whole_image_fallback = [perceived_s, perceived_t, &matcher, all_view_pairs]() {
     std::vector<Correspondence> all;
-    AppendWholeImageCorrespondences(*perceived_s, *perceived_t, matcher, &all);
+    AppendWholeImageCorrespondences(*perceived_s, *perceived_t, matcher, all_view_pairs, &all);
     return all;
   };
   // Too little from the objects to even try: go to the whole images straight away.

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 
 #include "estimate/lift.hpp"
 #include "zeroreg/error.hpp"
@@ -84,16 +85,16 @@ cv::Mat DrawObjectMatches(const Scan& source, const Scan& target, const Registra
 }
 
 cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
-                            const RegistrationResult& result, int view) {
-  const View& a = source.views[view];
-  cv::Mat canvas = SideBySide(a, target.views[view]);
+                            const RegistrationResult& result, int source_view, int target_view) {
+  const View& a = source.views[source_view];
+  cv::Mat canvas = SideBySide(a, target.views[target_view]);
   const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
   int inliers = 0, outliers = 0;
   // Outliers first so that inliers are drawn on top.
   for (int pass = 0; pass < 2; ++pass) {
     for (size_t i = 0; i < result.correspondences.size(); ++i) {
       const Correspondence& c = result.correspondences[i];
-      if (c.view != view) continue;
+      if (c.view != source_view || c.target_view != target_view) continue;
       const bool inlier = i < result.is_inlier.size() && result.is_inlier[i];
       if (inlier != (pass == 1)) continue;
       (inlier ? inliers : outliers)++;
@@ -176,9 +177,23 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     if (!result.source_objects.empty() || !result.target_objects.empty()) {
       write("objects" + suffix, DrawObjectMatches(source, target, result, view));
     }
-    write("correspondences" + suffix, DrawCorrespondences(source, target, result, view));
+    write("correspondences" + suffix, DrawCorrespondences(source, target, result, view, view));
     write("registered" + suffix,
           DrawRegisteredClouds(source, target, result.T_target_source, view));
+  }
+  // Pairs of different views (the whole-image fallback may match every source view with every
+  // target view): a correspondence picture for each pair that has correspondences.
+  std::set<std::pair<int, int>> cross_pairs;
+  for (const Correspondence& c : result.correspondences) {
+    if (c.view != c.target_view) cross_pairs.emplace(c.view, c.target_view);
+  }
+  for (const auto& [vs, vt] : cross_pairs) {
+    if (vs >= static_cast<int>(source.views.size()) ||
+        vt >= static_cast<int>(target.views.size())) {
+      continue;
+    }
+    write("correspondences-view" + std::to_string(vs) + "-" + std::to_string(vt) + ".png",
+          DrawCorrespondences(source, target, result, vs, vt));
   }
   return written;
 }

@@ -1,7 +1,9 @@
 // Pictures of a registration, for people who would rather look than read:
 //   objects-view<i>.png         the two images side by side, each matched object pair in the same
 //                               colour (mask outline, box, label, score), unmatched objects grey;
-//   correspondences-view<i>.png the point correspondences, RANSAC inliers green, outliers red;
+//   correspondences-view<i>.png the point correspondences, RANSAC inliers green, outliers red
+//                               (correspondences-view<i>-<j>.png: source view i, target view j,
+//                               written when the fallback matched different views);
 //   registered-view<i>.png      both scans' depth points projected into target view i with the
 //                               estimated transform: target blue, source orange; where the two
 //                               agree the colours interleave, where they disagree they split.
@@ -17,8 +19,9 @@ namespace zeroreg {
 
 cv::Mat DrawObjectMatches(const Scan& source, const Scan& target, const RegistrationResult& result,
                           int view);
+// The correspondences between source view `source_view` and target view `target_view`.
 cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
-                            const RegistrationResult& result, int view);
+                            const RegistrationResult& result, int source_view, int target_view);
 cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
                              const Transform& T_target_source, int view);
 

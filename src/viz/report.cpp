@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
+#include <tuple>
 #include <vector>
 
 #include "eval/records.hpp"
@@ -185,8 +186,9 @@ std::string MarkdownToHtml(const std::string& markdown) {
 // ---- pictures ----------------------------------------------------------------------------------
 
 struct Picture {
-  std::string kind;  // "objects", "correspondences", "registered"
-  int view = 0;
+  std::string kind;     // "objects", "correspondences", "registered"
+  int view = 0;         // source view
+  int target_view = 0;  // target view (differs from `view` only for cross-view correspondences)
   std::string path;
 };
 
@@ -195,18 +197,21 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::vector<Picture> found;
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return found;
-  static const std::regex name_re("(objects|correspondences|registered)-view([0-9]+)\\.(png|jpg)");
+  static const std::regex name_re(
+      "(objects|correspondences|registered)-view([0-9]+)(?:-([0-9]+))?\\.(png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
     if (!std::regex_match(name, m, name_re)) continue;
-    found.push_back({m[1], std::stoi(m[2]), entry.path().string()});
+    const int view = std::stoi(m[2]);
+    found.push_back({m[1], view, m[3].matched ? std::stoi(m[3]) : view, entry.path().string()});
   }
   auto rank = [](const std::string& kind) {
     return kind == "objects" ? 0 : kind == "correspondences" ? 1 : 2;
   };
   std::sort(found.begin(), found.end(), [&](const Picture& a, const Picture& b) {
-    return std::make_pair(a.view, rank(a.kind)) < std::make_pair(b.view, rank(b.kind));
+    return std::make_tuple(a.view, rank(a.kind), a.target_view) <
+           std::make_tuple(b.view, rank(b.kind), b.target_view);
   });
   return found;
 }

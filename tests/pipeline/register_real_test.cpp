@@ -63,6 +63,43 @@ TEST(RegisterReal, SiftBackendAlsoRegisters) {
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
 }
 
+// A scan of two real frames far apart in time, in the camera frame of the first (like a fused
+// fragment keeps several views).
+Scan TwoViewScan(int first, int second) {
+  Scan scan = Frame(first);
+  const Scan other = Frame(second);
+  View view = other.views[0];
+  view.T_scan_camera = scan.T_world_scan_gt->inverse() * *other.T_world_scan_gt;
+  scan.views.push_back(view);
+  scan.name += "+" + other.name;
+  return scan;
+}
+
+TEST(RegisterReal, FallbackMatchesDifferentViewsWhenOnlyTheyOverlap) {
+  // Source views: frames 520 and 20; target views: frames 0 and 500. Only source view 1 with
+  // target view 0, and source view 0 with target view 1, show the same part of the kitchen.
+  const Scan source = TwoViewScan(520, 20), target = TwoViewScan(0, 500);
+  const Transform gt = GroundTruth(source, target);
+  PipelineConfig config;
+  config.method.min_object_matches = 1000;  // force the whole-image fallback
+  const RegistrationResult r = Register(source, target, config);
+  EXPECT_EQ(r.path, "image-fallback");
+  EXPECT_TRUE(r.valid) << r.reason;
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
+  int cross_inliers = 0, inliers = 0;
+  for (size_t i = 0; i < r.correspondences.size(); ++i) {
+    if (!r.is_inlier[i]) continue;
+    ++inliers;
+    if (r.correspondences[i].view != r.correspondences[i].target_view) ++cross_inliers;
+  }
+  EXPECT_GT(cross_inliers, inliers / 2);
+
+  config.method.fallback_all_view_pairs = false;  // view i with view i only
+  const RegistrationResult same = Register(source, target, config);
+  for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
+}
+
 TEST(RegisterReal, SameInputAndSeedGiveTheSameOutputBitForBit) {
   const Scan source = Frame(120), target = Frame(100);
   const RegistrationResult a = Register(source, target);
