@@ -1,48 +1,41 @@
 #include "estimate/icp.hpp"
 
-#include "estimate/lift.hpp"
-
 #include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
+
 #include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <memory>
 
 namespace zeroreg {
+namespace {
 
-std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double voxel_m) {
+std::shared_ptr<open3d::geometry::PointCloud> Thinned(const std::vector<Eigen::Vector3d>& points,
+                                                      double voxel_m) {
   open3d::geometry::PointCloud cloud;
-  cloud.points_ = ScanPoints(scan, /*stride=*/2);
-  return cloud.VoxelDownSample(voxel_m)->points_;
+  cloud.points_ = points;
+  return cloud.VoxelDownSample(voxel_m);
 }
 
-IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
-                             const std::vector<Eigen::Vector3d>& target, const Transform& initial,
-                             const RefineConfig& config) {
-  IcpResult result;
-  result.T_target_source = initial;
-  if (source.size() < 6 || target.size() < 6) return result;
-  open3d::geometry::PointCloud target_cloud;
-  target_cloud.points_ = target;
-  // Normals from 30 neighbours within 3 voxels: each normal depends only on its neighbourhood, so
-  // Open3D's parallel estimation is still deterministic.
-  target_cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(3 * config.voxel_m, 30));
-  open3d::geometry::KDTreeFlann tree(target_cloud);
-  const double gate_sq = config.max_distance_m * config.max_distance_m;
-
-  Transform T = initial;
+// Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result.
+void RunStage(const std::vector<Eigen::Vector3d>& source,
+              const open3d::geometry::PointCloud& target, const open3d::geometry::KDTreeFlann& tree,
+              const IcpStage& stage, Transform* T, IcpResult* result) {
+  const double gate_sq = stage.max_distance_m * stage.max_distance_m;
   std::vector<int> index(1);
   std::vector<double> distance_sq(1);
-  for (int it = 0; it < config.max_iterations; ++it) {
+  for (int it = 0; it < stage.iterations; ++it) {
     // Linearised point-to-plane residual n^T (R p + t - q) with R ~ I + [w]x, x = [w; t].
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int matched = 0;
     double sum_sq = 0;
     for (const Eigen::Vector3d& s : source) {
-      const Eigen::Vector3d p = (T * s.homogeneous()).head<3>();
+      const Eigen::Vector3d p = (*T * s.homogeneous()).head<3>();
       if (tree.SearchKNN(p, 1, index, distance_sq) < 1 || distance_sq[0] > gate_sq) continue;
-      const Eigen::Vector3d& q = target_cloud.points_[index[0]];
-      const Eigen::Vector3d& n = target_cloud.normals_[index[0]];
+      const Eigen::Vector3d& q = target.points_[index[0]];
+      const Eigen::Vector3d& n = target.normals_[index[0]];
       Eigen::Matrix<double, 6, 1> J;
       J << p.cross(n), n;
       const double r = n.dot(p - q);
@@ -51,20 +44,55 @@ IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
       ++matched;
       sum_sq += distance_sq[0];
     }
-    result.iterations = it + 1;
-    result.fitness = static_cast<double>(matched) / source.size();
-    result.rmse = matched > 0 ? std::sqrt(sum_sq / matched) : 0.0;
-    if (matched < 6) break;
+    ++result->iterations;
+    result->fitness = static_cast<double>(matched) / source.size();
+    result->rmse = matched > 0 ? std::sqrt(sum_sq / matched) : 0.0;
+    if (matched < 6) return;
     const Eigen::Matrix<double, 6, 1> x = JtJ.ldlt().solve(-Jtr);
-    if (!x.allFinite()) break;
+    if (!x.allFinite()) return;
     Transform step = Transform::Identity();
     const double angle = x.head<3>().norm();
     if (angle > 0) {
       step.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, x.head<3>() / angle).toRotationMatrix();
     }
     step.topRightCorner<3, 1>() = x.tail<3>();
-    T = step * T;
-    if (x.norm() < 1e-6) break;  // converged: sub-micrometre / sub-microradian update
+    *T = step * *T;
+    // Converged: a step below 0.1 mm and 0.1 mrad (0.006 deg) is far below the depth noise;
+    // iterating on only re-shuffles closest-point pairs.
+    if (x.head<3>().norm() < 1e-4 && x.tail<3>().norm() < 1e-4) return;
+  }
+}
+
+}  // namespace
+
+std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
+  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations},
+          {config.voxel_m, config.max_distance_m, config.max_iterations},
+          {config.voxel_m, config.max_distance_final_m, config.max_iterations}};
+}
+
+IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
+                             const std::vector<Eigen::Vector3d>& target, const Transform& initial,
+                             const std::vector<IcpStage>& stages) {
+  IcpResult result;
+  Transform T = initial;
+  double current_voxel = -1.0;
+  std::shared_ptr<open3d::geometry::PointCloud> source_thin, target_thin;
+  std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
+  for (const IcpStage& stage : stages) {
+    if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
+    if (stage.voxel_m != current_voxel) {  // consecutive stages at one resolution share it
+      current_voxel = stage.voxel_m;
+      source_thin = Thinned(source, stage.voxel_m);
+      target_thin = Thinned(target, stage.voxel_m);
+      if (source_thin->points_.size() < 6 || target_thin->points_.size() < 6) break;
+      // Normals from 30 neighbours within 3 voxels: each normal depends only on its
+      // neighbourhood, so Open3D's parallel estimation is still deterministic.
+      target_thin->EstimateNormals(
+          open3d::geometry::KDTreeSearchParamHybrid(3 * stage.voxel_m, 30));
+      tree = std::make_unique<open3d::geometry::KDTreeFlann>(*target_thin);
+    }
+    RunStage(source_thin->points_, *target_thin, *tree, stage, &T, &result);
   }
   result.T_target_source = T;
   return result;

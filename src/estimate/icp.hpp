@@ -1,6 +1,7 @@
-// Optional refinement of a registration by point-to-plane ICP on the scans' geometry (issue 6).
-// Our own Gauss-Newton loop on Open3D's k-d tree and normals, with serial reductions, so the
-// result is a function of the input only (Open3D's ICP sums in parallel threads).
+// Optional refinement of a registration by coarse-to-fine point-to-plane ICP on the scans'
+// geometry (issue 6). Our own Gauss-Newton loop on Open3D's k-d tree and normals, with serial
+// reductions, so the result is a function of the input only (Open3D's ICP sums in parallel
+// threads).
 #pragma once
 
 #include <Eigen/Core>
@@ -13,18 +14,26 @@ namespace zeroreg {
 
 struct IcpResult {
   Transform T_target_source = Transform::Identity();
-  double fitness = 0.0;  // fraction of source points with a target point within the distance
+  double fitness = 0.0;  // last stage: fraction of source points with a target point in the gate
   double rmse = 0.0;     // metres, over those points
-  int iterations = 0;
+  int iterations = 0;    // over all stages
 };
 
-// Geometry of a scan for ICP: its point cloud if it has one, else the back-projected depth of its
-// views, voxel-downsampled to `voxel_m`.
-std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double voxel_m);
+// One ICP stage: points thinned to one per voxel_m cube, closest-point pairs farther apart than
+// max_distance_m ignored, at most `iterations` Gauss-Newton steps.
+struct IcpStage {
+  double voxel_m = 0.02;
+  double max_distance_m = 0.05;
+  int iterations = 30;
+};
 
-// Point-to-plane ICP from `initial`, with correspondences within `config.max_distance_m`.
+// The coarse, fine and final stages of RefineConfig, in order.
+std::vector<IcpStage> IcpSchedule(const RefineConfig& config);
+
+// Point-to-plane ICP from `initial` through `stages`, on raw (not yet thinned) points in the
+// source and target frames.
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
                              const std::vector<Eigen::Vector3d>& target, const Transform& initial,
-                             const RefineConfig& config);
+                             const std::vector<IcpStage>& stages);
 
 }  // namespace zeroreg

@@ -52,8 +52,12 @@ void Visit(V& v, RansacConfig& c) {
 template <typename V>
 void Visit(V& v, RefineConfig& c) {
   v("enabled", c.enabled);
+  v("voxel_coarse_m", c.voxel_coarse_m);
+  v("max_distance_coarse_m", c.max_distance_coarse_m);
+  v("coarse_iterations", c.coarse_iterations);
   v("voxel_m", c.voxel_m);
   v("max_distance_m", c.max_distance_m);
+  v("max_distance_final_m", c.max_distance_final_m);
   v("max_iterations", c.max_iterations);
   v("max_translation_change_m", c.max_translation_change_m);
   v("max_rotation_change_deg", c.max_rotation_change_deg);

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "estimate/icp.hpp"
+#include "estimate/lift.hpp"
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
@@ -139,14 +140,15 @@ void UpdateInlierStats(double threshold_m, RegistrationResult* r) {
   r->inlier_spread_m = InlierSpread(*r);
 }
 
-// Point-to-plane ICP from the RANSAC estimate; kept only if it stays a refinement. The inlier
-// statistics then describe the refined transform.
+// Coarse-to-fine point-to-plane ICP from the RANSAC estimate; kept only if it stays a
+// refinement. The inlier statistics then describe the refined transform.
 void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeline,
             RegistrationResult* r) {
   const RefineConfig& config = pipeline.refine;
+  // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
   const IcpResult icp =
-      RefinePointToPlane(ScanGeometry(source, config.voxel_m), ScanGeometry(target, config.voxel_m),
-                         r->T_target_source, config);
+      RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),
+                         r->T_target_source, IcpSchedule(config));
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
   char note[256];
