@@ -254,10 +254,11 @@ struct MethodConfig {
   // fewer point correspondences than this.
   int min_object_matches = 1;
   int min_object_correspondences = 30;
-  // Which view pairs the whole-image fallback matches: false = view i with view i only (as the
-  // object level does, paper §3.4); true = every source view with every target view. Scans made of
-  // several views far apart in time (fused fragments) often overlap only between different views.
-  bool fallback_all_view_pairs = true;
+  // Which view pairs whole-image matching uses (the fallback, and the row (a) path): false = view
+  // i with view i only (as the object level does, paper §3.4); true = every source view with
+  // every target view. Scans made of several views far apart in time (fused fragments) often
+  // overlap only between different views.
+  bool whole_image_all_view_pairs = true;
 };
 
 struct PipelineConfig {

@@ -21,31 +21,36 @@ LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const Vi
   return out;
 }
 
+void MatchWholeImages(const std::vector<LiftedFeatures>& source,
+                      const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
+                      bool all_view_pairs, std::vector<Correspondence>* out) {
+  for (size_t vs = 0; vs < source.size(); ++vs) {
+    for (size_t vt = 0; vt < target.size(); ++vt) {
+      if (!all_view_pairs && vs != vt) continue;
+      const LiftedFeatures& a = source[vs];
+      const LiftedFeatures& b = target[vt];
+      for (const DescriptorMatch& m :
+           matcher.Match(a.features.descriptors, b.features.descriptors)) {
+        out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
+                        b.features.keypoints[m.target], static_cast<int>(vs), static_cast<int>(vt),
+                        m.score});
+      }
+    }
+  }
+}
+
 CorrespondenceSet ImageCorrespondenceSource::Find(const Scan& source, const Scan& target,
                                                   StageTimer& timer) const {
   CorrespondenceSet result;
-  const size_t view_pairs = std::min(source.views.size(), target.views.size());
-  for (size_t v = 0; v < view_pairs; ++v) {
-    timer.Restart();
-    const LiftedFeatures s = ExtractLiftedFeatures(extractor_, source.views[v], lift_);
-    const LiftedFeatures t = ExtractLiftedFeatures(extractor_, target.views[v], lift_);
-    timer.Mark("features");
-    result.num_keypoints_source += s.features.size();
-    result.num_keypoints_target += t.features.size();
-    for (const DescriptorMatch& m :
-         matcher_.Match(s.features.descriptors, t.features.descriptors)) {
-      Correspondence c;
-      c.source = s.points[m.source];
-      c.target = t.points[m.target];
-      c.source_pixel = s.features.keypoints[m.source];
-      c.target_pixel = t.features.keypoints[m.target];
-      c.view = static_cast<int>(v);
-      c.target_view = static_cast<int>(v);
-      c.score = m.score;
-      result.correspondences.push_back(c);
-    }
-    timer.Mark("match");
-  }
+  timer.Restart();
+  std::vector<LiftedFeatures> s, t;
+  for (const View& view : source.views) s.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
+  for (const View& view : target.views) t.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
+  for (const LiftedFeatures& f : s) result.num_keypoints_source += f.features.size();
+  for (const LiftedFeatures& f : t) result.num_keypoints_target += f.features.size();
+  timer.Mark("features");
+  MatchWholeImages(s, t, matcher_, all_view_pairs_, &result.correspondences);
+  timer.Mark("match");
   return result;
 }
 

@@ -1,6 +1,7 @@
-// Whole-image correspondences: features over the full image of view i of the source matched with
-// view i of the target (the paper pairs views by index), lifted to 3D with depth. This is the
-// paper's Table 4 row (a), "w/o Object-Level", and the fallback when objects find too little.
+// Whole-image correspondences: features over the full images of the source's and the target's
+// views, matched view i with view i (the paper pairs views by index) or every view with every
+// view, lifted to 3D with depth. This is the paper's Table 4 row (a), "w/o Object-Level", and the
+// fallback when objects find too little.
 #pragma once
 
 #include "estimate/lift.hpp"
@@ -18,11 +19,17 @@ struct LiftedFeatures {
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
                                      const LiftConfig& lift);
 
+// Matches the views' features over the whole images and appends the 3D correspondences: view i
+// with view i, or (all_view_pairs) every source view with every target view.
+void MatchWholeImages(const std::vector<LiftedFeatures>& source,
+                      const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
+                      bool all_view_pairs, std::vector<Correspondence>* out);
+
 class ImageCorrespondenceSource : public CorrespondenceSource {
  public:
   ImageCorrespondenceSource(const FeatureExtractor& extractor, const DescriptorMatcher& matcher,
-                            const LiftConfig& lift)
-      : extractor_(extractor), matcher_(matcher), lift_(lift) {}
+                            const LiftConfig& lift, bool all_view_pairs)
+      : extractor_(extractor), matcher_(matcher), lift_(lift), all_view_pairs_(all_view_pairs) {}
   std::string name() const override { return "image"; }
   CorrespondenceSet Find(const Scan& source, const Scan& target, StageTimer& timer) const override;
 
@@ -30,6 +37,7 @@ class ImageCorrespondenceSource : public CorrespondenceSource {
   const FeatureExtractor& extractor_;
   const DescriptorMatcher& matcher_;
   LiftConfig lift_;
+  bool all_view_pairs_;
 };
 
 }  // namespace zeroreg

@@ -125,7 +125,7 @@ void Visit(V& v, MethodConfig& c) {
   v("label_mask_in_solve", c.label_mask_in_solve);
   v("min_object_matches", c.min_object_matches);
   v("min_object_correspondences", c.min_object_correspondences);
-  v("fallback_all_view_pairs", c.fallback_all_view_pairs);
+  v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {

@@ -65,26 +65,6 @@ const ObjectObservation* ObservationInView(const SceneObjects& scene, const Scen
   return nullptr;
 }
 
-// Matches features over whole images (the fallback path): view i with view i, or every source
-// view with every target view.
-void AppendWholeImageCorrespondences(const PerceivedScan& s, const PerceivedScan& t,
-                                     const DescriptorMatcher& matcher, bool all_view_pairs,
-                                     std::vector<Correspondence>* out) {
-  for (size_t vs = 0; vs < s.view_features.size(); ++vs) {
-    for (size_t vt = 0; vt < t.view_features.size(); ++vt) {
-      if (!all_view_pairs && vs != vt) continue;
-      const LiftedFeatures& a = s.view_features[vs];
-      const LiftedFeatures& b = t.view_features[vt];
-      for (const DescriptorMatch& m :
-           matcher.Match(a.features.descriptors, b.features.descriptors)) {
-        out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
-                        b.features.keypoints[m.target], static_cast<int>(vs), static_cast<int>(vt),
-                        m.score});
-      }
-    }
-  }
-}
-
 }  // namespace
 
 void SemanticMatrices(const std::vector<SceneObject>& source,
@@ -265,10 +245,11 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   timer.Mark("point_match");
 
   const DescriptorMatcher& matcher = matcher_;
-  const bool all_view_pairs = config_.method.fallback_all_view_pairs;
+  const bool all_view_pairs = config_.method.whole_image_all_view_pairs;
   result.whole_image_fallback = [perceived_s, perceived_t, &matcher, all_view_pairs]() {
     std::vector<Correspondence> all;
-    AppendWholeImageCorrespondences(*perceived_s, *perceived_t, matcher, all_view_pairs, &all);
+    MatchWholeImages(perceived_s->view_features, perceived_t->view_features, matcher,
+                     all_view_pairs, &all);
     return all;
   };
   // Too little from the objects to even try: go to the whole images straight away.

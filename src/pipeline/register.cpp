@@ -216,7 +216,8 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   m.extractor = MakeFeatureExtractor(config.features, assets);
   m.matcher = MakeDescriptorMatcher(config.match);
   if (!config.method.object_level) {
-    m.source = std::make_unique<ImageCorrespondenceSource>(*m.extractor, *m.matcher, config.lift);
+    m.source = std::make_unique<ImageCorrespondenceSource>(
+        *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs);
     return;
   }
   m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets));

@@ -75,7 +75,15 @@ Scan TwoViewScan(int first, int second) {
   return scan;
 }
 
-TEST(RegisterReal, FallbackMatchesDifferentViewsWhenOnlyTheyOverlap) {
+int CrossViewInliers(const RegistrationResult& r) {
+  int n = 0;
+  for (size_t i = 0; i < r.correspondences.size(); ++i) {
+    if (r.is_inlier[i] && r.correspondences[i].view != r.correspondences[i].target_view) ++n;
+  }
+  return n;
+}
+
+TEST(RegisterReal, WholeImageMatchingPairsDifferentViewsWhenOnlyTheyOverlap) {
   // Source views: frames 520 and 20; target views: frames 0 and 500. Only source view 1 with
   // target view 0, and source view 0 with target view 1, show the same part of the kitchen.
   const Scan source = TwoViewScan(520, 20), target = TwoViewScan(0, 500);
@@ -87,15 +95,18 @@ TEST(RegisterReal, FallbackMatchesDifferentViewsWhenOnlyTheyOverlap) {
   EXPECT_TRUE(r.valid) << r.reason;
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
-  int cross_inliers = 0, inliers = 0;
-  for (size_t i = 0; i < r.correspondences.size(); ++i) {
-    if (!r.is_inlier[i]) continue;
-    ++inliers;
-    if (r.correspondences[i].view != r.correspondences[i].target_view) ++cross_inliers;
-  }
-  EXPECT_GT(cross_inliers, inliers / 2);
+  EXPECT_GT(CrossViewInliers(r), r.num_inliers / 2);
 
-  config.method.fallback_all_view_pairs = false;  // view i with view i only
+  // The whole-image path of row (a) pairs the views the same way.
+  PipelineConfig image_path;
+  image_path.method.object_level = false;
+  const RegistrationResult image = Register(source, target, image_path);
+  EXPECT_EQ(image.path, "image");
+  EXPECT_TRUE(image.valid) << image.reason;
+  EXPECT_LT(TranslationErrorM(image.T_target_source, gt), 0.10);
+  EXPECT_GT(CrossViewInliers(image), image.num_inliers / 2);
+
+  config.method.whole_image_all_view_pairs = false;  // view i with view i only
   const RegistrationResult same = Register(source, target, config);
   for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
 }
