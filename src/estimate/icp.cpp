@@ -11,13 +11,6 @@
 namespace zeroreg {
 namespace {
 
-std::shared_ptr<open3d::geometry::PointCloud> Thinned(const std::vector<Eigen::Vector3d>& points,
-                                                      double voxel_m) {
-  open3d::geometry::PointCloud cloud;
-  cloud.points_ = points;
-  return cloud.VoxelDownSample(voxel_m);
-}
-
 // Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result.
 void RunStage(const std::vector<Eigen::Vector3d>& source,
               const open3d::geometry::PointCloud& target, const open3d::geometry::KDTreeFlann& tree,
@@ -76,6 +69,10 @@ IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
                              const std::vector<IcpStage>& stages) {
   IcpResult result;
   Transform T = initial;
+  // The raw points are copied into Open3D clouds once; each resolution thins those.
+  open3d::geometry::PointCloud source_cloud, target_cloud;
+  source_cloud.points_ = source;
+  target_cloud.points_ = target;
   double current_voxel = -1.0;
   std::shared_ptr<open3d::geometry::PointCloud> source_thin, target_thin;
   std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
@@ -83,8 +80,8 @@ IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
     if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
     if (stage.voxel_m != current_voxel) {  // consecutive stages at one resolution share it
       current_voxel = stage.voxel_m;
-      source_thin = Thinned(source, stage.voxel_m);
-      target_thin = Thinned(target, stage.voxel_m);
+      source_thin = source_cloud.VoxelDownSample(stage.voxel_m);
+      target_thin = target_cloud.VoxelDownSample(stage.voxel_m);
       if (source_thin->points_.size() < 6 || target_thin->points_.size() < 6) break;
       // Normals from 30 neighbours within 3 voxels: each normal depends only on its
       // neighbourhood, so Open3D's parallel estimation is still deterministic.

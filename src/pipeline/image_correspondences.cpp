@@ -21,6 +21,12 @@ LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const Vi
   return out;
 }
 
+int CountKeypoints(const std::vector<LiftedFeatures>& views) {
+  int n = 0;
+  for (const LiftedFeatures& f : views) n += f.features.size();
+  return n;
+}
+
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
                       bool all_view_pairs, std::vector<Correspondence>* out) {
@@ -46,8 +52,8 @@ CorrespondenceSet ImageCorrespondenceSource::Find(const Scan& source, const Scan
   std::vector<LiftedFeatures> s, t;
   for (const View& view : source.views) s.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
   for (const View& view : target.views) t.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
-  for (const LiftedFeatures& f : s) result.num_keypoints_source += f.features.size();
-  for (const LiftedFeatures& f : t) result.num_keypoints_target += f.features.size();
+  result.num_keypoints_source = CountKeypoints(s);
+  result.num_keypoints_target = CountKeypoints(t);
   timer.Mark("features");
   MatchWholeImages(s, t, matcher_, all_view_pairs_, &result.correspondences);
   timer.Mark("match");

@@ -19,6 +19,9 @@ struct LiftedFeatures {
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
                                      const LiftConfig& lift);
 
+// Usable keypoints over all the views (what the result reports as keypoints_source/target).
+int CountKeypoints(const std::vector<LiftedFeatures>& views);
+
 // Matches the views' features over the whole images and appends the 3D correspondences: view i
 // with view i, or (all_view_pairs) every source view with every target view.
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,

@@ -167,8 +167,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
   const PerceivedScan& s = *perceived_s;
   const PerceivedScan& t = *perceived_t;
   CorrespondenceSet result;
-  for (const LiftedFeatures& f : s.view_features) result.num_keypoints_source += f.features.size();
-  for (const LiftedFeatures& f : t.view_features) result.num_keypoints_target += f.features.size();
+  result.num_keypoints_source = CountKeypoints(s.view_features);
+  result.num_keypoints_target = CountKeypoints(t.view_features);
   result.source_objects = Summarise(s.objects);
   result.target_objects = Summarise(t.objects);
   const std::vector<SceneObject>& objects_s = s.objects.objects;
