@@ -205,11 +205,51 @@ struct RefineConfig {
   double max_distance_m = 0.05;
   double max_distance_final_m = 0.02;
   int max_iterations = 30;
-  // The refined transform replaces RANSAC's only when it moves less than this (a refinement, not
-  // a new registration): metres for translation, degrees for rotation. A guard against runaway
-  // on degenerate geometry; it did not bind on the redkitchen pairs (BENCHMARKS.md).
-  double max_translation_change_m = 0.25;
-  double max_rotation_change_deg = 15.0;
+  // No movement guard: with verification on, the refined transform is kept only when the
+  // geometric check scores it at least as well as the estimate it started from.
+};
+
+// Geometric verification: the verdict (issue 10, src/verify/verify.hpp, docs/CONFIG.md). Each
+// scan's depth is rendered into the other scan's views under the estimate; `valid` means the
+// surfaces coincide where both scans see the same space and neither scan puts a surface where the
+// other camera saw through.
+struct VerifyConfig {
+  // false: the verdict is RANSAC's count test alone (RansacConfig), as before issue 10.
+  bool enabled = true;
+  // Every pixel_stride-th depth pixel (in x and y) of each view is rendered into the other scan.
+  int pixel_stride = 4;
+  // Depth readings outside this range are not used (same range as lifting).
+  double min_depth_m = 0.1;
+  double max_depth_m = 8.0;
+  // Agreement tolerance tau(d) = registration_tolerance_m + depth_noise_sigmas * sigma(d), with the
+  // axial depth noise sigma(d) = depth_noise_at_1m_m * d^2 of structured-light and ToF RGB-D
+  // sensors (Khoshelham & Elberink 2012: Kinect ~1.5 mm at 1 m, ~4 cm at 5 m). The 2 cm term is the
+  // residual misalignment a correct, refined estimate still has (the final ICP gate).
+  double registration_tolerance_m = 0.02;
+  double depth_noise_at_1m_m = 0.0015;
+  double depth_noise_sigmas = 3.0;
+  // The other camera's depth is read within this radius (pixels) around where a point lands: a
+  // point agrees if any reading there agrees, and violates free space only if it lies in front of
+  // all of them (silhouettes and a pixel of projection error are not violations).
+  int neighbourhood_px = 2;
+  // A sampled pixel whose 4-neighbours at +-2 px differ in depth by more than this fraction is on a
+  // depth edge (mixed pixels lie in free space) and is not rendered.
+  double depth_edge_relative = 0.05;
+  // Decision. overlap = fraction of the sampled points of the scan that sees more of the other that
+  // coincide with the other's surfaces (the smaller of the two directions' fractions).
+  double min_overlap = 0.1;
+  // violations / (agreements + violations), both directions pooled.
+  double max_violation = 0.1;
+  // Degeneracy probe: the estimate is moved by probe_translation_m along the motion the agreeing
+  // surfaces constrain least (smallest eigenvalue of their point-to-plane information matrix). If
+  // less than min_probe_contradicted of the agreeing source samples then leave the target's surface
+  // (land in front of or behind it), the geometry does not determine the transform (a plane, a
+  // corridor) and the result is invalid. 0.1 m is several tolerances: a surface facing the motion
+  // is certainly off the other surface at that distance.
+  double probe_translation_m = 0.1;
+  double min_probe_contradicted = 0.02;
+  // At least this many sampled points per scan, or there is nothing to verify with.
+  int min_points = 200;
 };
 
 // Building the objects of a scan from its views' masks (paper §3.2).
@@ -267,6 +307,7 @@ struct PipelineConfig {
   LiftConfig lift;
   RansacConfig ransac;
   RefineConfig refine;
+  VerifyConfig verify;
   DetectorConfig detector;
   SegmenterConfig segmenter;
   SemanticsConfig semantics;

@@ -90,6 +90,38 @@ struct StageTime {
   double ms = 0.0;
 };
 
+// The geometric check of a returned transform (src/verify/verify.hpp, docs/CONFIG.md "verify"):
+// each scan's depth rendered into the other scan's views under T_target_source.
+struct VerificationResult {
+  bool ran = false;     // false when verification is disabled (the count verdict decides)
+  bool passed = false;  // the scans agree under the transform
+  std::string reason;   // why it failed, or the evidence in one line
+  // Fraction of each scan's sampled surface that coincides with the other's surface within the
+  // depth tolerance: the smaller and the larger of the two directions.
+  double overlap = 0.0;
+  double overlap_max = 0.0;
+  // Violations / (agreements + violations): surface of one scan lying in space the other camera
+  // saw through. Near 0 for a correct transform.
+  double violation = 0.0;
+  double residual_rms_m = 0.0;  // RMS depth difference over the agreeing samples
+  double score = 0.0;  // mean per sample of (1 - (r/tau)^2 if agreeing, -1 if violating, else 0)
+  // Fraction of the agreeing source surface that leaves the target's surface when the estimate is
+  // moved by VerifyConfig::probe_translation_m along its least constrained motion (the smaller of
+  // the two senses); near 0 = the geometry does not fix that motion (a plane, a corridor).
+  double probe_contradicted = 0.0;
+  bool degenerate = false;
+  int source_samples = 0, target_samples = 0;  // sampled depth pixels of each scan
+};
+
+// One candidate transform the pipeline considered (e.g. RANSAC's and ICP's), with its check.
+struct CandidateSummary {
+  std::string name;  // e.g. "object ransac", "object icp", "image-fallback ransac"
+  Transform T_target_source = Transform::Identity();
+  double score = 0.0;  // VerificationResult::score
+  bool passed = false;
+  bool chosen = false;
+};
+
 struct RegistrationResult {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
@@ -99,8 +131,7 @@ struct RegistrationResult {
   int num_keypoints_target = 0;
   int num_correspondences = 0;  // 3D correspondences given to the estimator
   // Correspondences within the RANSAC distance of the returned transform (after ICP refinement,
-  // when it ran). `valid` is decided at the RANSAC stage; a refinement is bounded by
-  // RefineConfig's movement limits and does not change the verdict.
+  // when it ran and was kept).
   int num_inliers = 0;
   double inlier_ratio = 0.0;  // num_inliers / num_correspondences
   double inlier_rmse = 0.0;   // metres, over the RANSAC inliers
@@ -108,12 +139,19 @@ struct RegistrationResult {
   // metres): small when they lie on a line, which leaves a rotation undetermined.
   double inlier_spread_m = 0.0;
   int ransac_iterations = 0;
+  // RANSAC's count test (RansacConfig: inliers, inlier ratio, spread) passed: the correspondences
+  // support an estimate. With verification on, `valid` also needs the geometric check.
+  bool count_test_passed = false;
   std::vector<Correspondence> correspondences;
   std::vector<bool> is_inlier;  // parallel to correspondences
   std::vector<ObjectSummary> source_objects;
   std::vector<ObjectSummary> target_objects;
   std::vector<ObjectMatchSummary> object_matches;
   std::vector<StageTime> timings;
+  // The geometric check of T_target_source; with verification on it decides `valid`.
+  VerificationResult verification;
+  // Every transform that was checked, in the order they were made (the chosen one marked).
+  std::vector<CandidateSummary> candidates;
 };
 
 }  // namespace zeroreg

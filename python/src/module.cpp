@@ -14,6 +14,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
+#include "verify/verify.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -811,6 +812,31 @@ PYBIND11_MODULE(_zeroreg, m) {
         return TranslationErrorM(RequireRigid(T, "T"), RequireRigid(T_gt, "T_gt"));
       },
       py::arg("T"), py::arg("T_gt"));
+
+  // The geometric check of the verdict for any transform (docs/CONFIG.md "verify"): lets a user
+  // check a transform from elsewhere, and the calibration script measure the check's separation.
+  m.def(
+      "verify",
+      [](const py::handle& source, const py::handle& target, const py::object& T,
+         const py::object& config) {
+        const Scan s = ScanFromPython(source, "source");
+        const Scan t = ScanFromPython(target, "target");
+        const Transform T_target_source = RequireRigid(T, "T_target_source");
+        const PipelineConfig c = ConfigFromPython(config, py::none());
+        VerificationResult v;
+        {
+          py::gil_scoped_release release;
+          v = VerifyRegistration(s, t, T_target_source, c.verify);
+        }
+        RegistrationResult r;
+        r.verification = v;
+        return FromJson(ResultToJson(r, false)["verification"]);
+      },
+      py::arg("source"), py::arg("target"), py::arg("T_target_source"),
+      py::arg("config") = py::none(),
+      "Geometric check of T_target_source: each scan's depth rendered into the other's views. "
+      "Returns a dict (passed, reason, overlap, violation, residual_rms_m, score, "
+      "probe_contradicted, degenerate, ...).");
 
   m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
 }

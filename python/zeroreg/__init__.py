@@ -28,6 +28,7 @@ from ._zeroreg import (
     rotation_error_deg,
     translation_error_m,
 )
+from ._zeroreg import verify as _verify
 
 __all__ = [
     "Pipeline",
@@ -41,6 +42,7 @@ __all__ = [
     "register",
     "rotation_error_deg",
     "translation_error_m",
+    "verify",
 ]
 
 
@@ -151,3 +153,20 @@ def register(
 ) -> Result:
     """One-call registration: Pipeline(config, seed).register(source, target)."""
     return Pipeline(config, seed).register(source, target)
+
+
+def verify(
+    source: ScanLike,
+    target: ScanLike,
+    T_target_source: Any,
+    config: Union[None, dict, str] = None,
+) -> dict:
+    """Geometric check of a transform (the check behind Result.valid, docs/CONFIG.md "verify").
+
+    Each scan's depth is rendered into the other scan's views under T_target_source (4x4, maps
+    source points into the target frame). Returns a dict: passed, reason, overlap, overlap_max,
+    violation, residual_rms_m, score, probe_contradicted, degenerate, source_samples, target_samples.
+    """
+    return _verify(
+        _native(source, "source"), _native(target, "target"), np.asarray(T_target_source), config
+    )

@@ -50,6 +50,23 @@ void Visit(V& v, RansacConfig& c) {
   v("min_inlier_spread_m", c.min_inlier_spread_m);
 }
 template <typename V>
+void Visit(V& v, VerifyConfig& c) {
+  v("enabled", c.enabled);
+  v("pixel_stride", c.pixel_stride);
+  v("min_depth_m", c.min_depth_m);
+  v("max_depth_m", c.max_depth_m);
+  v("registration_tolerance_m", c.registration_tolerance_m);
+  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m);
+  v("depth_noise_sigmas", c.depth_noise_sigmas);
+  v("neighbourhood_px", c.neighbourhood_px);
+  v("depth_edge_relative", c.depth_edge_relative);
+  v("min_overlap", c.min_overlap);
+  v("max_violation", c.max_violation);
+  v("probe_translation_m", c.probe_translation_m);
+  v("min_probe_contradicted", c.min_probe_contradicted);
+  v("min_points", c.min_points);
+}
+template <typename V>
 void Visit(V& v, RefineConfig& c) {
   v("enabled", c.enabled);
   v("voxel_coarse_m", c.voxel_coarse_m);
@@ -59,8 +76,6 @@ void Visit(V& v, RefineConfig& c) {
   v("max_distance_m", c.max_distance_m);
   v("max_distance_final_m", c.max_distance_final_m);
   v("max_iterations", c.max_iterations);
-  v("max_translation_change_m", c.max_translation_change_m);
-  v("max_rotation_change_deg", c.max_rotation_change_deg);
 }
 template <typename V>
 void Visit(V& v, DetectorConfig& c) {
@@ -141,6 +156,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("object_match", c.object_match);
   v.Section("ransac", c.ransac);
   v.Section("refine", c.refine);
+  v.Section("verify", c.verify);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
 }
@@ -244,6 +260,15 @@ void ApplyConfigJson(const json& j, const std::string& where, PipelineConfig* c)
     throw MakeInputError(where + ": ransac.confidence", "must be in (0, 1)");
   }
   if (c->scene_graph.knn < 1) throw MakeInputError(where + ": scene_graph.knn", "must be >= 1");
+  if (c->verify.pixel_stride < 1) {
+    throw MakeInputError(where + ": verify.pixel_stride", "must be >= 1 (pixels)");
+  }
+  if (!(c->verify.registration_tolerance_m > 0) || !(c->verify.depth_noise_at_1m_m >= 0) ||
+      !(c->verify.depth_noise_sigmas >= 0)) {
+    throw MakeInputError(where + ": verify",
+                         "registration_tolerance_m must be positive and the depth noise terms "
+                         "non-negative (metres)");
+  }
   if (c->objects.pixel_stride < 1) {
     throw MakeInputError(where + ": objects.pixel_stride", "must be >= 1 (pixels)");
   }
@@ -332,7 +357,31 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"inlier_ratio", r.inlier_ratio},
          {"inlier_rmse_m", r.inlier_rmse},
          {"inlier_spread_m", r.inlier_spread_m},
+         {"count_test_passed", r.count_test_passed},
          {"timings_ms", timings}};
+  if (r.verification.ran) {
+    const VerificationResult& v = r.verification;
+    j["verification"] = {{"passed", v.passed},
+                         {"reason", v.reason},
+                         {"overlap", v.overlap},
+                         {"overlap_max", v.overlap_max},
+                         {"violation", v.violation},
+                         {"residual_rms_m", v.residual_rms_m},
+                         {"score", v.score},
+                         {"probe_contradicted", v.probe_contradicted},
+                         {"degenerate", v.degenerate},
+                         {"source_samples", v.source_samples},
+                         {"target_samples", v.target_samples}};
+    json candidates = json::array();
+    for (const CandidateSummary& c : r.candidates) {
+      candidates.push_back({{"name", c.name},
+                            {"T_target_source", TransformToJson(c.T_target_source)},
+                            {"score", c.score},
+                            {"passed", c.passed},
+                            {"chosen", c.chosen}});
+    }
+    j["candidates"] = candidates;
+  }
   if (!r.source_objects.empty() || !r.target_objects.empty()) {
     json matches = json::array();
     for (const ObjectMatchSummary& m : r.object_matches) {

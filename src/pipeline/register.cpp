@@ -13,6 +13,7 @@
 #include "pipeline/image_correspondences.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
+#include "verify/verify.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
 
@@ -115,6 +116,7 @@ void Estimate(std::vector<Correspondence> correspondences, const PipelineConfig&
   r->inlier_spread_m = InlierSpread(*r);
   r->valid = false;
   DecideVerdict(config.ransac, r);
+  r->count_test_passed = r->valid;
 }
 
 // Inlier flags, count, ratio, RMSE and spread of the correspondences under r->T_target_source.
@@ -140,8 +142,25 @@ void UpdateInlierStats(double threshold_m, RegistrationResult* r) {
   r->inlier_spread_m = InlierSpread(*r);
 }
 
-// Coarse-to-fine point-to-plane ICP from the RANSAC estimate; kept only if it stays a
-// refinement. The inlier statistics then describe the refined transform.
+// Records the check of r->T_target_source as a candidate named `name` and folds it into the
+// verdict: with verification on, the count test of DecideVerdict is the evidence that an estimate
+// exists, and `valid` additionally needs the scans to agree under it.
+void ApplyVerification(const Scan& source, const Scan& target, const PipelineConfig& config,
+                       const std::string& name, RegistrationResult* r) {
+  if (!config.verify.enabled) return;
+  const bool evidence = r->count_test_passed;
+  r->verification = VerifyRegistration(source, target, r->T_target_source, config.verify);
+  r->candidates.push_back(
+      {name, r->T_target_source, r->verification.score, evidence && r->verification.passed, false});
+  if (!evidence) return;  // the count reason stands
+  r->valid = r->verification.passed;
+  r->reason = r->verification.reason + " (" + r->reason + ")";
+}
+
+// Coarse-to-fine point-to-plane ICP from the estimate. The refined transform is kept only when
+// the geometric check scores it at least as well as the estimate it started from (issue 10): ICP
+// fits all of both scans' geometry, so where it slides (along a plane, pulled by surface one scan
+// sees alone) the scans agree less and the estimate stays. Without verification ICP is kept.
 void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeline,
             RegistrationResult* r) {
   const RefineConfig& config = pipeline.refine;
@@ -151,25 +170,32 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
                          r->T_target_source, IcpSchedule(config));
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
-  char note[256];
-  if (moved_m > config.max_translation_change_m || turned_deg > config.max_rotation_change_deg) {
-    std::snprintf(note, sizeof(note), "; ICP refinement rejected (would move %.1f cm, %.2f deg)",
-                  moved_m * 100, turned_deg);
-    r->reason += note;
-    return;
-  }
-  // ICP fits the scans' whole geometry, not the correspondences; within the movement limits it is
-  // trusted over them (measured: rejecting it whenever the correspondences disagree lost 1-3
-  // points of accuracy on the gap-60 frame pairs). The verdict stays RANSAC's; the inlier fields
-  // are recomputed so that they describe the transform returned.
   RegistrationResult refined = *r;
   refined.T_target_source = icp.T_target_source;
   UpdateInlierStats(pipeline.ransac.inlier_threshold_m, &refined);
+  char note[320];
+  if (pipeline.verify.enabled) {
+    refined.verification =
+        VerifyRegistration(source, target, refined.T_target_source, pipeline.verify);
+    refined.candidates.push_back({r->path + " icp", refined.T_target_source,
+                                  refined.verification.score, refined.verification.passed, false});
+    r->candidates = refined.candidates;
+    if (refined.verification.score < r->verification.score) {
+      std::snprintf(note, sizeof(note),
+                    "; ICP refinement rejected: the scans agree less after it (score %.3f < "
+                    "%.3f; it would move %.1f cm, %.2f deg)",
+                    refined.verification.score, r->verification.score, moved_m * 100, turned_deg);
+      r->reason += note;
+      return;
+    }
+    refined.valid = refined.verification.passed;
+    refined.reason = refined.verification.reason;
+  }
   std::snprintf(note, sizeof(note),
-                "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg; %d correspondences "
-                "within %.2f m of the refined transform)",
+                "; refined by ICP (fitness %.2f, moved %.1f cm, %.2f deg; %d of %d "
+                "correspondences within %.2f m of the refined transform)",
                 icp.fitness, moved_m * 100, turned_deg, refined.num_inliers,
-                pipeline.ransac.inlier_threshold_m);
+                refined.num_correspondences, pipeline.ransac.inlier_threshold_m);
   refined.reason += note;
   *r = std::move(refined);
 }
@@ -256,6 +282,8 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   }
   Estimate(std::move(found.correspondences), effective, &result);
   timer.Mark("estimate");
+  ApplyVerification(source, target, effective, result.path + " ransac", &result);
+  timer.Mark("verify");
 
   // §3.4 found too little inside the matched objects: match the whole images instead (the
   // features are already extracted) and keep whichever estimate is valid.
@@ -267,13 +295,20 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
     Estimate(std::move(fallback.correspondences), effective, &fallback);
     timer.Mark("estimate");
     fallback.path = "image-fallback";
+    ApplyVerification(source, target, effective, "image-fallback ransac", &fallback);
+    timer.Mark("verify");
     fallback.reason += " (object level: " + object_reason + ")";
     result = std::move(fallback);
   }
-  if (config.refine.enabled && result.valid) {
+  // ICP runs whenever there is an estimate the correspondences support (count evidence): a
+  // correct estimate a few centimetres off can fail the check and pass after refinement.
+  if (config.refine.enabled && result.count_test_passed) {
     timer.Restart();
     Refine(source, target, effective, &result);
     timer.Mark("refine");
+  }
+  for (CandidateSummary& c : result.candidates) {
+    c.chosen = c.T_target_source == result.T_target_source;
   }
   double total = 0;
   for (const StageTime& t : timer.times()) total += t.ms;

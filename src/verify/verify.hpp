@@ -1,0 +1,60 @@
+// Geometric verification of a registration (issue 10): do the two scans agree under the estimate?
+//
+// Each scan's depth is rendered into the other scan's views: every sampled depth pixel of one scan
+// is moved by the estimate into each camera of the other scan and compared with the depth that
+// camera measured at the pixel it lands on (Fig. of docs/VERIFY.md):
+//   |z - d| <= tau(d)      agreement: the two surfaces coincide within the depth noise
+//   z < d - tau(d)         free-space violation: the point lies in space the other camera saw
+//                          through (a wrong transform puts surfaces there)
+//   z > d + tau(d)         occluded: no evidence either way
+//   outside / no depth     no evidence
+// with tau(d) = registration_tolerance_m + depth_noise_sigmas * depth_noise_at_1m_m * d^2.
+// A correct transform makes most of the overlap agree and leaves almost nothing in free space;
+// a wrong one that happens to align one plane (a textured floor) puts the rest of the scene in
+// front of the other camera's surfaces. Correspondence counts are evidence, not the decision.
+//
+// Depends on Eigen and OpenCV core only (the views' depth images).
+#pragma once
+
+#include <string>
+
+#include "zeroreg/config.hpp"
+#include "zeroreg/types.hpp"
+
+namespace zeroreg {
+
+// Tallies of one direction (points of scan A rendered into the views of scan B).
+struct RenderTally {
+  int points = 0;      // sampled depth pixels of A (each counted once, in its best view of B)
+  int agree = 0;       // coincide with a surface of B
+  int violate = 0;     // lie in B's free space
+  int occluded = 0;    // behind B's surface
+  double score = 0.0;  // sum over agreeing points of 1 - (r / tau)^2 minus one per violation
+  double sum_sq_residual = 0.0;  // over agreeing points, m^2
+};
+
+// Tallies of both directions and what they say.
+struct GeometricAgreement {
+  RenderTally source_in_target;  // source points under T_target_source, seen by target views
+  RenderTally target_in_source;  // target points under its inverse, seen by source views
+  // Fraction of each scan's sampled points that coincide with a surface of the other; the
+  // smaller of the two (what is seen by both, relative to the scan that sees more).
+  double overlap = 0.0;
+  double overlap_max = 0.0;  // the larger of the two
+  // Violations / (agreements + violations), both directions pooled.
+  double violation = 0.0;
+  double residual_rms_m = 0.0;  // RMS |z - d| over agreeing points, both directions
+  // Mean score per sampled point, both directions; the number the candidates are ranked by.
+  double score = 0.0;
+};
+
+// Renders both scans into each other under T_target_source (see the file comment).
+GeometricAgreement MeasureAgreement(const Scan& source, const Scan& target,
+                                    const Transform& T_target_source, const VerifyConfig& config);
+
+// MeasureAgreement, the degeneracy probe and the thresholds of VerifyConfig (types.hpp documents
+// the fields).
+VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
+                                      const Transform& T_target_source, const VerifyConfig& config);
+
+}  // namespace zeroreg
