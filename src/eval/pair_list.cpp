@@ -80,12 +80,14 @@ std::vector<ListedPair> ReadListedPairs(const std::string& path, std::string* sc
   return pairs;
 }
 
+// Rigid up to the rounding of real ground truth (7-Scenes poses deviate from orthonormal by up to
+// 2e-4; the metrics orthonormalise the GT rotation): a scaled or sheared matrix is refused.
 void CheckRigid(const LogEntry& e, const std::string& path) {
   const Eigen::Matrix3d R = e.T_i_j.topLeftCorner<3, 3>();
   const double orthogonality =
       (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   const Eigen::RowVector4d last = e.T_i_j.row(3);
-  if (orthogonality > 1e-4 || R.determinant() < 0 ||
+  if (orthogonality > 1e-2 || R.determinant() < 0 ||
       (last - Eigen::RowVector4d(0, 0, 0, 1)).cwiseAbs().maxCoeff() > 1e-9) {
     throw MakeInputError(path + " line " + std::to_string(e.line),
                          "the matrix of " + PairText(e.i, e.j) +
