@@ -12,6 +12,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <stdexcept>
 
 #include "estimate/lift.hpp"
 #include "estimate/rigid_ransac.hpp"
@@ -152,8 +153,11 @@ LiftedFeatures DetectAndLift(const FeatureBaselineConfig& c, const View& view) {
   cv::Ptr<cv::Feature2D> detector;
   if (c.detector == "orb") {
     detector = cv::ORB::create(c.max_features);
-  } else {
+  } else if (c.detector == "sift") {
     detector = cv::SIFT::create(c.max_features);
+  } else {
+    throw std::invalid_argument("FeatureBaselineConfig::detector '" + c.detector +
+                                "'; expected sift or orb");
   }
   std::vector<cv::KeyPoint> keypoints;
   cv::Mat descriptors;
@@ -162,7 +166,7 @@ LiftedFeatures DetectAndLift(const FeatureBaselineConfig& c, const View& view) {
   for (size_t k = 0; k < keypoints.size(); ++k) {
     const Eigen::Vector2f pixel(keypoints[k].pt.x, keypoints[k].pt.y);
     const auto point = LiftPixel(view, pixel, c.lift);
-    if (!point) continue;  // invalid / out-of-range depth, or a depth edge
+    if (!point) continue;  // invalid or out-of-range depth (or an edge, if the radius > 0)
     out.points.push_back(*point);
     out.pixels.push_back(pixel);
     out.descriptors.push_back(descriptors.row(static_cast<int>(k)));
