@@ -3,6 +3,7 @@
 //   zeroreg eval 3dmatch --data ../shared/data/7scenes-redkitchen --gt ../shared/data/3dmatch-gt
 //                        --out results/3dmatch [--method zeroreg|image|fpfh] [--views 3]
 //   zeroreg eval pairs --data DIR --gap 20 [--step 10] [--first 0] --out results/pairs-g20
+//   zeroreg eval pairs --data DIR --list ../shared/lists/hololens-gap1 --out results/hololens-gap1
 //   zeroreg eval merge results/shard-0 results/shard-1 ... --out results/merged
 #include <algorithm>
 #include <cstdio>
@@ -15,6 +16,7 @@
 #include "config_options.hpp"
 #include "eval/fragments.hpp"
 #include "eval/methods.hpp"
+#include "eval/pair_list.hpp"
 #include "eval/protocols.hpp"
 #include "eval/runner.hpp"
 #include "eval/session.hpp"
@@ -43,7 +45,8 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
       ->required();
   app.add_option("--method,-m", o->method,
                  "zeroreg (the pipeline with --config/--set), image (its whole-image feature "
-                 "path) or fpfh (Open3D FPFH + RANSAC)")
+                 "path), fpfh (Open3D FPFH + RANSAC), sift or orb (OpenCV features, ratio test, "
+                 "depth lifting, RANSAC)")
       ->capture_default_str();
   app.add_option("--jobs,-j", o->jobs, "pairs evaluated in parallel (one method instance each)")
       ->capture_default_str()
@@ -88,7 +91,8 @@ std::vector<PairTask> Select(std::vector<PairTask> tasks, const CommonOptions& o
 struct Method {
   PipelineConfig pipeline;
   FpfhConfig fpfh;
-  json settings;  // the method part of run.json's settings
+  FeatureBaselineConfig features;  // sift / orb
+  json settings;                   // the method part of run.json's settings
 };
 
 Method ResolveMethod(const CommonOptions& o) {
@@ -96,8 +100,15 @@ Method ResolveMethod(const CommonOptions& o) {
   Method m;
   m.pipeline = MethodPipelineConfig(o.method, BuildConfig(o.config));
   m.fpfh.seed = m.pipeline.seed;
-  m.settings = o.method == "fpfh" ? json{{"fpfh", FpfhConfigToJson(m.fpfh)}}
-                                  : json{{"pipeline", ConfigToJson(m.pipeline)}};
+  m.features.detector = o.method;
+  m.features.seed = m.pipeline.seed;
+  if (o.method == "fpfh") {
+    m.settings = json{{"fpfh", FpfhConfigToJson(m.fpfh)}};
+  } else if (o.method == "sift" || o.method == "orb") {
+    m.settings = json{{"features", FeatureBaselineConfigToJson(m.features)}};
+  } else {
+    m.settings = json{{"pipeline", ConfigToJson(m.pipeline)}};
+  }
   return m;
 }
 
@@ -204,9 +215,9 @@ int RunMatch(const MatchOptions& o) {
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
 
   // The method first: a bad config or missing model is reported before minutes of fusion.
-  const MethodFactory factory =
-      o.fuse_only ? MethodFactory()
-                  : MakeMethodFactory(o.common.method, method.pipeline, method.fpfh);
+  const MethodFactory factory = o.fuse_only ? MethodFactory()
+                                            : MakeMethodFactory(o.common.method, method.pipeline,
+                                                                method.fpfh, method.features);
   PrepareOutDir(o.common.out, info);
 
   // Lazy fusion: only the fragments of this shard's pairs that are not finished yet.
@@ -229,7 +240,7 @@ int RunMatch(const MatchOptions& o) {
 
 struct FramePairOptions {
   CommonOptions common;
-  std::string data;
+  std::string data, list;
   int gap = 20, step = 10, first = 0;
   double depth_scale = 0.0;
 };
@@ -241,11 +252,20 @@ int RunFramePairs(const FramePairOptions& o) {
   const auto dataset = OpenDataset(o.data, dataset_options);
   fs::path root = fs::path(o.data).lexically_normal();
   if (root.filename().empty()) root = root.parent_path();
-  const std::vector<PairTask> tasks =
-      FramePairTasks(dataset->FrameIds(), o.gap, o.step, o.first, o.data, root.filename().string());
-  if (tasks.empty()) {
-    throw MakeInputError(o.data, "has no frame pair (i, i + " + std::to_string(o.gap) +
-                                     ") from frame " + std::to_string(o.first));
+  std::vector<PairTask> tasks;
+  json list_settings;
+  if (!o.list.empty()) {
+    const PairList list =
+        ReadPairList(o.list, dataset->FrameIds(), o.data, root.filename().string());
+    tasks = list.tasks;
+    list_settings = list.settings;
+  } else {
+    tasks = FramePairTasks(dataset->FrameIds(), o.gap, o.step, o.first, o.data,
+                           root.filename().string());
+    if (tasks.empty()) {
+      throw MakeInputError(o.data, "has no frame pair (i, i + " + std::to_string(o.gap) +
+                                       ") from frame " + std::to_string(o.first));
+    }
   }
   RunInfo info;
   info.protocol = "pairs";
@@ -253,11 +273,15 @@ int RunFramePairs(const FramePairOptions& o) {
   info.settings = method.settings;
   info.settings["data"] = o.data;
   info.settings["depth_scale"] = o.depth_scale;
+  // A list run keeps the list's identity (name and content hashes): a resumed folder refuses
+  // another list, and the summary writes <out>/est.log.
+  if (!list_settings.is_null()) info.settings["list"] = list_settings;
   info.tasks = Select(tasks, o.common);
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
-  const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh);
+  const MethodFactory factory =
+      MakeMethodFactory(o.common.method, method.pipeline, method.fpfh, method.features);
   PrepareOutDir(o.common.out, info);
   return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
 }
@@ -325,15 +349,22 @@ Runner AddEvalCommand(CLI::App& app) {
       "pairs", "frame pairs (i, i + gap) of an RGB-D sequence (UR&R protocol, paper Table 3)");
   pairs->add_option("--data,-d", f->data, "RGB-D sequence (3DMatch, TUM or ScanNet layout)")
       ->required();
-  pairs->add_option("--gap,-g", f->gap, "frame gap g")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  pairs->add_option("--step", f->step, "every step-th i")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
-  pairs->add_option("--first", f->first, "first i")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+  CLI::Option* gap = pairs->add_option("--gap,-g", f->gap, "frame gap g")
+                         ->capture_default_str()
+                         ->check(CLI::PositiveNumber);
+  CLI::Option* step = pairs->add_option("--step", f->step, "every step-th i")
+                          ->capture_default_str()
+                          ->check(CLI::PositiveNumber);
+  CLI::Option* first = pairs->add_option("--first", f->first, "first i")
+                           ->capture_default_str()
+                           ->check(CLI::NonNegativeNumber);
+  pairs
+      ->add_option("--list", f->list,
+                   "pair list folder instead of --gap: pairs.txt (\"i j\" = target i, source j) "
+                   "and gt.log (T_i_j); writes <out>/est.log")
+      ->excludes(gap)
+      ->excludes(step)
+      ->excludes(first);
   pairs->add_option("--depth-scale", f->depth_scale,
                     "raw depth units per metre (default: layout's)");
   AddCommonOptions(*pairs, &f->common);

@@ -99,6 +99,7 @@ Scan LoadScanFromDescriptor(const std::string& path);
 struct LogEntry {
   int i = 0, j = 0, n = 0;
   Transform T_i_j = Transform::Identity();
+  int line = 0;  // line of the header in the file read (ReadLogFile), for messages
 };
 // One entry of gt.info: header "i j n" and the 6x6 information matrix.
 struct InfoEntry {

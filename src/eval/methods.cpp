@@ -9,7 +9,13 @@
 #include <open3d/utility/Random.h>
 
 #include <mutex>
+#include <opencv2/features2d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <sstream>
+#include <stdexcept>
+
+#include "estimate/lift.hpp"
+#include "estimate/rigid_ransac.hpp"
 
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
@@ -130,7 +136,156 @@ class FpfhMethod : public PairMethod {
   FpfhConfig c_;
 };
 
+// Keypoints of one view that have a 3D point, with their descriptors (one row each).
+struct LiftedFeatures {
+  std::vector<Eigen::Vector3d> points;  // scan frame
+  std::vector<Eigen::Vector2f> pixels;
+  cv::Mat descriptors;
+};
+
+LiftedFeatures DetectAndLift(const FeatureBaselineConfig& c, const View& view) {
+  cv::Mat gray;
+  if (view.color.channels() == 3) {
+    cv::cvtColor(view.color, gray, cv::COLOR_BGR2GRAY);
+  } else {
+    gray = view.color;
+  }
+  cv::Ptr<cv::Feature2D> detector;
+  if (c.detector == "orb") {
+    detector = cv::ORB::create(c.max_features);
+  } else if (c.detector == "sift") {
+    detector = cv::SIFT::create(c.max_features);
+  } else {
+    throw std::invalid_argument("FeatureBaselineConfig::detector '" + c.detector +
+                                "'; expected sift or orb");
+  }
+  std::vector<cv::KeyPoint> keypoints;
+  cv::Mat descriptors;
+  detector->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
+  LiftedFeatures out;
+  for (size_t k = 0; k < keypoints.size(); ++k) {
+    const Eigen::Vector2f pixel(keypoints[k].pt.x, keypoints[k].pt.y);
+    const auto point = LiftPixel(view, pixel, c.lift);
+    if (!point) continue;  // invalid or out-of-range depth (or an edge, if the radius > 0)
+    out.points.push_back(*point);
+    out.pixels.push_back(pixel);
+    out.descriptors.push_back(descriptors.row(static_cast<int>(k)));
+  }
+  return out;
+}
+
+// For each query row, its best match when it passes the ratio test, else -1.
+std::vector<int> RatioMatches(const cv::DescriptorMatcher& matcher, const cv::Mat& query,
+                              const cv::Mat& train, double ratio) {
+  std::vector<int> best(static_cast<size_t>(query.rows), -1);
+  if (query.empty() || train.rows < 2) return best;
+  std::vector<std::vector<cv::DMatch>> knn;
+  matcher.knnMatch(query, train, knn, 2);
+  for (const auto& m : knn) {
+    if (m.size() == 2 && m[0].distance < ratio * m[1].distance) {
+      best[static_cast<size_t>(m[0].queryIdx)] = m[0].trainIdx;
+    }
+  }
+  return best;
+}
+
 }  // namespace
+
+MethodOutput RunFeatureBaseline(const FeatureBaselineConfig& c, const Scan& source,
+                                const Scan& target) {
+  std::vector<LiftedFeatures> src, tgt;
+  for (const View& v : source.views) src.push_back(DetectAndLift(c, v));
+  for (const View& v : target.views) tgt.push_back(DetectAndLift(c, v));
+  const cv::BFMatcher matcher(c.detector == "orb" ? cv::NORM_HAMMING : cv::NORM_L2);
+  MethodOutput out;
+  out.path = c.detector;
+  std::vector<Eigen::Vector3d> from, to;
+  // Every source view with every target view, pooled.
+  for (size_t sv = 0; sv < src.size(); ++sv) {
+    for (size_t tv = 0; tv < tgt.size(); ++tv) {
+      const LiftedFeatures& s = src[sv];
+      const LiftedFeatures& t = tgt[tv];
+      const std::vector<int> forward = RatioMatches(matcher, s.descriptors, t.descriptors, c.ratio);
+      const std::vector<int> backward =
+          RatioMatches(matcher, t.descriptors, s.descriptors, c.ratio);
+      for (size_t a = 0; a < forward.size(); ++a) {
+        const int b = forward[a];
+        if (b < 0 || backward[static_cast<size_t>(b)] != static_cast<int>(a)) continue;
+        Correspondence corr;
+        corr.source = s.points[a];
+        corr.target = t.points[static_cast<size_t>(b)];
+        corr.source_pixel = s.pixels[a];
+        corr.target_pixel = t.pixels[static_cast<size_t>(b)];
+        corr.view = static_cast<int>(sv);
+        corr.target_view = static_cast<int>(tv);
+        out.correspondences.push_back(corr);
+        from.push_back(corr.source);
+        to.push_back(corr.target);
+      }
+    }
+  }
+  const int n = static_cast<int>(from.size());
+  std::ostringstream why;
+  if (n < 3) {
+    why << "only " << n << " " << c.detector << " correspondences (need 3 for RANSAC)";
+    out.reason = why.str();
+    return out;
+  }
+  const RansacResult r = EstimateRigidRansac(from, to, c.ransac, c.seed);
+  if (!r.found) {
+    why << "RANSAC found no non-degenerate sample in " << n << " correspondences";
+    out.reason = why.str();
+    return out;
+  }
+  out.T_target_source = r.T_target_source;
+  out.num_inliers = r.num_inliers;
+  const double ratio = static_cast<double>(r.num_inliers) / n;
+  out.valid = r.num_inliers >= c.min_inliers && ratio >= c.min_inlier_ratio;
+  why << r.num_inliers << " RANSAC inliers of " << n << " " << c.detector
+      << " correspondences (ratio " << ratio << "); ";
+  if (out.valid) {
+    why << "valid: at least " << c.min_inliers << " inliers and ratio >= " << c.min_inlier_ratio;
+  } else {
+    why << "invalid: needs at least " << c.min_inliers
+        << " inliers and ratio >= " << c.min_inlier_ratio;
+  }
+  out.reason = why.str();
+  return out;
+}
+
+namespace {
+
+class FeatureBaselineMethod : public PairMethod {
+ public:
+  explicit FeatureBaselineMethod(const FeatureBaselineConfig& config) : c_(config) {}
+  MethodOutput Run(const Scan& source, const Scan& target) override {
+    return RunFeatureBaseline(c_, source, target);
+  }
+
+ private:
+  FeatureBaselineConfig c_;
+};
+
+}  // namespace
+
+nlohmann::json FeatureBaselineConfigToJson(const FeatureBaselineConfig& c) {
+  return {{"detector", c.detector},
+          {"max_features", c.max_features},
+          {"ratio", c.ratio},
+          {"mutual", true},
+          {"lift",
+           {{"min_depth_m", c.lift.min_depth_m},
+            {"max_depth_m", c.lift.max_depth_m},
+            {"depth_edge_radius_px", c.lift.depth_edge_radius_px},
+            {"depth_edge_relative", c.lift.depth_edge_relative}}},
+          {"ransac",
+           {{"inlier_threshold_m", c.ransac.inlier_threshold_m},
+            {"max_iterations", c.ransac.max_iterations},
+            {"confidence", c.ransac.confidence}}},
+          {"min_inliers", c.min_inliers},
+          {"min_inlier_ratio", c.min_inlier_ratio},
+          {"seed", c.seed}};
+}
 
 nlohmann::json FpfhConfigToJson(const FpfhConfig& c) {
   return {{"voxel_m", c.voxel_m},
@@ -179,14 +334,22 @@ PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig co
 }
 
 void CheckMethodName(const std::string& method) {
-  if (method != "zeroreg" && method != "image" && method != "fpfh") {
-    throw MakeInputError("--method " + method, "unknown method; expected zeroreg, image or fpfh");
+  if (method != "zeroreg" && method != "image" && method != "fpfh" && method != "sift" &&
+      method != "orb") {
+    throw MakeInputError("--method " + method,
+                         "unknown method; expected zeroreg, image, fpfh, sift or orb");
   }
 }
 
 MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
-                                const FpfhConfig& fpfh) {
+                                const FpfhConfig& fpfh, const FeatureBaselineConfig& features) {
   CheckMethodName(method);
+  if (method == "sift" || method == "orb") {
+    FeatureBaselineConfig c = features;
+    c.detector = method;
+    return
+        [c]() -> std::unique_ptr<PairMethod> { return std::make_unique<FeatureBaselineMethod>(c); };
+  }
   if (method == "fpfh") {
     return [fpfh]() -> std::unique_ptr<PairMethod> { return std::make_unique<FpfhMethod>(fpfh); };
   }

@@ -7,6 +7,9 @@
 //            "w/o object level"): the config overrides of ImagePathOverrides() are applied and
 //            every result is checked to come from the "image" path
 //   fpfh     Open3D FPFH + RANSAC with the usual 3DMatch settings (FpfhConfig)
+//   sift     OpenCV SIFT / ORB keypoints of every view, ratio test both ways + mutual check,
+//   orb      lifted with the view's depth, pooled over all view pairs, our deterministic RANSAC
+//            with least-squares refit (FeatureBaselineConfig); a count verdict
 #pragma once
 
 #include <cstdint>
@@ -49,6 +52,30 @@ struct FpfhConfig {
 };
 nlohmann::json FpfhConfigToJson(const FpfhConfig& config);
 
+// The image-feature baselines a user tries first (--method sift / orb).
+struct FeatureBaselineConfig {
+  std::string detector = "sift";  // "sift" (cv::SIFT, L2) or "orb" (cv::ORB, Hamming)
+  int max_features = 4096;        // per view (cv::SIFT nfeatures / cv::ORB nfeatures)
+  double ratio = 0.8;             // Lowe ratio, applied source->target and target->source
+  // Keypoints are lifted with LiftPixel: depth valid and in [min_depth_m, max_depth_m]. No
+  // depth-edge test (radius 0), as a user's baseline would do: on HoloLens depth with 22-45 %
+  // holes the pipeline's 4 px test drops most keypoints (docs/EVAL.md).
+  LiftConfig lift = NoEdgeTest();
+  // EstimateRigidRansac with these settings (inlier threshold 5 cm, refit on the inliers).
+  RansacConfig ransac;
+  // Verdict: counts, as such baselines have (not a geometric check of the scans).
+  int min_inliers = 20;
+  double min_inlier_ratio = 0.05;  // inliers / correspondences
+  std::uint64_t seed = 0;          // RANSAC seed
+
+  static LiftConfig NoEdgeTest() {
+    LiftConfig c;
+    c.depth_edge_radius_px = 0;
+    return c;
+  }
+};
+nlohmann::json FeatureBaselineConfigToJson(const FeatureBaselineConfig& config);
+
 // The method's geometry for FPFH: the scan's point cloud, or, when it has none, the
 // back-projection of every view's depth in [min_depth_m, max_depth_m], in the scan frame.
 std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m, double max_depth_m);
@@ -61,14 +88,20 @@ std::vector<std::string> ImagePathOverrides();
 // The pipeline config a method runs with: `config`, plus ImagePathOverrides() for "image".
 PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig config);
 
-// Known method names: "zeroreg", "image", "fpfh". Throws InputError on anything else.
+// Known method names: "zeroreg", "image", "fpfh", "sift", "orb". Throws InputError otherwise.
 void CheckMethodName(const std::string& method);
 
 using MethodFactory = std::function<std::unique_ptr<PairMethod>()>;
-// zeroreg / image run a Pipeline with MethodPipelineConfig(method, config); fpfh uses `fpfh`.
+// zeroreg / image run a Pipeline with MethodPipelineConfig(method, config); fpfh uses `fpfh`;
+// sift / orb use `features` with detector = method.
 // Builds one Pipeline at once, so a bad config or missing model throws here. The factory is
 // called once per runner thread.
 MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
-                                const FpfhConfig& fpfh);
+                                const FpfhConfig& fpfh,
+                                const FeatureBaselineConfig& features = FeatureBaselineConfig());
+
+// One pass of the sift / orb baseline, exposed for tests.
+MethodOutput RunFeatureBaseline(const FeatureBaselineConfig& config, const Scan& source,
+                                const Scan& target);
 
 }  // namespace zeroreg

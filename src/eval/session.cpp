@@ -108,6 +108,10 @@ EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
     const auto summaries = SummarizeFramePairs(tasks, records);
     for (const auto& b : summaries) benchmarks.push_back(ToJson(b));
     table = FramePairSummaryMarkdown(summaries);
+    if (info.settings.contains("list")) {  // eval pairs --list: est.log beside the summary
+      WriteListEstLog((fs::path(out_dir) / "est.log").string(), tasks, records);
+      s.json["est_logs"] = json::array({"est.log"});
+    }
   }
   s.json["benchmarks"] = benchmarks;
   s.markdown = "# zeroreg eval " + info.protocol + " — method `" + info.method + "`, shard " +

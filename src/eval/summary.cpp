@@ -59,7 +59,32 @@ std::string PathsText(const std::map<std::string, int>& paths) {
   return text;
 }
 
+double ObjectShare(const std::map<std::string, int>& paths, int done) {
+  const auto it = paths.find("object");
+  return done > 0 && it != paths.end() ? static_cast<double>(it->second) / done : 0.0;
+}
+
+// "12 / **1** / 3 / 4": valid-right / valid-WRONG (bold when > 0) / invalid-right / invalid-wrong.
+std::string VerdictsText(const VerdictCounts& v) {
+  const std::string wrong = v.valid_wrong > 0 ? "**" + std::to_string(v.valid_wrong) + "**"
+                                              : std::to_string(v.valid_wrong);
+  return std::to_string(v.valid_right) + " / " + wrong + " / " + std::to_string(v.invalid_right) +
+         " / " + std::to_string(v.invalid_wrong);
+}
+
 }  // namespace
+
+bool FramePairSuccess(const PairRecord& r) {
+  return r.rotation_error_deg < kSuccessRotationDeg && r.translation_error_m < kSuccessTranslationM;
+}
+
+void VerdictCounts::Add(bool valid, bool right) {
+  if (valid) {
+    ++(right ? valid_right : valid_wrong);
+  } else {
+    ++(right ? invalid_right : invalid_wrong);
+  }
+}
 
 Stats ComputeStats(std::vector<double> values) {
   Stats s;
@@ -84,7 +109,7 @@ std::vector<MatchBenchmarkSummary> SummarizeMatch(const std::vector<PairTask>& t
     for (const PairTask& t : tasks) {
       if (t.benchmark == benchmark) bench_tasks.push_back(t);
     }
-    std::vector<double> scene_rr, scene_ir, scene_fmr, rot, trans_cm;
+    std::vector<double> scene_rr, scene_ir, scene_fmr, rot, trans_cm, times_ms;
     double total_time_ms = 0;
     for (const std::string& scene :
          Distinct(bench_tasks, [](const PairTask& t) { return t.scene; })) {
@@ -100,7 +125,9 @@ std::vector<MatchBenchmarkSummary> SummarizeMatch(const std::vector<PairTask>& t
         ++finished;
         ++s.paths[r.path];
         total_time_ms += r.time_ms;
+        times_ms.push_back(r.time_ms);
         if (r.valid) ++s.num_valid;
+        if (!t.consecutive) s.verdicts.Add(r.valid, r.registered);
         ir_sum += r.inlier_ratio;
         if (r.inlier_ratio > kFeatureMatchRecallThreshold) ++matched;
         if (!t.consecutive && r.registered) {
@@ -125,6 +152,8 @@ std::vector<MatchBenchmarkSummary> SummarizeMatch(const std::vector<PairTask>& t
     s.rotation_error_deg = ComputeStats(rot);
     s.translation_error_cm = ComputeStats(trans_cm);
     s.mean_time_s = s.num_done > 0 ? total_time_ms / 1000.0 / s.num_done : 0.0;
+    s.median_time_ms = ComputeStats(times_ms).median;
+    s.object_path_share = ObjectShare(s.paths, s.num_done);
     out.push_back(s);
   }
   return out;
@@ -138,8 +167,9 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
        Distinct(tasks, [](const PairTask& t) { return t.benchmark; })) {
     FramePairSummary s;
     s.benchmark = benchmark;
-    std::vector<double> rot, trans_cm;
+    std::vector<double> rot, trans_cm, times_ms;
     double total_time_ms = 0;
+    int successes = 0;
     for (const PairTask& t : tasks) {
       if (t.benchmark != benchmark) continue;
       ++s.num_pairs;
@@ -151,6 +181,10 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
       rot.push_back(it->second->rotation_error_deg);
       trans_cm.push_back(100.0 * it->second->translation_error_m);
       total_time_ms += it->second->time_ms;
+      times_ms.push_back(it->second->time_ms);
+      const bool success = FramePairSuccess(*it->second);
+      if (success) ++successes;
+      s.verdicts.Add(it->second->valid, success);
     }
     auto accuracy = [](const std::vector<double>& errors, double threshold) {
       if (errors.empty()) return 0.0;
@@ -165,6 +199,9 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
     s.rotation_error_deg = ComputeStats(rot);
     s.translation_error_cm = ComputeStats(trans_cm);
     s.mean_time_s = s.num_done > 0 ? total_time_ms / 1000.0 / s.num_done : 0.0;
+    s.median_time_ms = ComputeStats(times_ms).median;
+    s.success = s.num_done > 0 ? static_cast<double>(successes) / s.num_done : 0.0;
+    s.object_path_share = ObjectShare(s.paths, s.num_done);
     out.push_back(s);
   }
   return out;
@@ -185,7 +222,13 @@ json ToJson(const MatchBenchmarkSummary& s) {
           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
           {"translation_error_cm", StatsJson(s.translation_error_cm)},
           {"mean_time_s", s.mean_time_s},
-          {"paths", s.paths}};
+          {"median_time_ms", s.median_time_ms},
+          {"paths", s.paths},
+          {"object_path_share", s.object_path_share},
+          {"valid_right", s.verdicts.valid_right},
+          {"valid_wrong", s.verdicts.valid_wrong},
+          {"invalid_right", s.verdicts.invalid_right},
+          {"invalid_wrong", s.verdicts.invalid_wrong}};
 }
 
 json ToJson(const FramePairSummary& s) {
@@ -205,16 +248,24 @@ json ToJson(const FramePairSummary& s) {
           {"translation_accuracy_cm", trans_acc},
           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
           {"translation_error_cm", StatsJson(s.translation_error_cm)},
+          {"success", s.success},
           {"mean_time_s", s.mean_time_s},
-          {"paths", s.paths}};
+          {"median_time_ms", s.median_time_ms},
+          {"paths", s.paths},
+          {"object_path_share", s.object_path_share},
+          {"valid_right", s.verdicts.valid_right},
+          {"valid_wrong", s.verdicts.valid_wrong},
+          {"invalid_right", s.verdicts.invalid_right},
+          {"invalid_wrong", s.verdicts.invalid_wrong}};
 }
 
 std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summaries) {
   std::ostringstream md;
   md << "| benchmark | pairs | done | evaluated (j > i+1) | registered | RR (%) | IR (%) | "
-        "FMR (%) | RE mean / med (deg) | TE mean / med (cm) | valid verdicts | time / pair (s) "
-        "| paths |\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        "FMR (%) | RE mean / med (deg) | TE mean / med (cm) | valid verdicts | valid-right / "
+        "valid-WRONG / invalid-right / invalid-wrong (right = registered) | time / pair (s) | "
+        "median (ms) | object path (%) | paths |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const MatchBenchmarkSummary& s : summaries) {
     md << "| " << s.benchmark << " | " << s.num_pairs << " | " << s.num_done << " | "
        << s.num_evaluated << " | " << s.num_registered << " | " << Percent(s.registration_recall)
@@ -223,7 +274,9 @@ std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summa
        << Format("%.2f", s.rotation_error_deg.median) << " | "
        << Format("%.1f", s.translation_error_cm.mean) << " / "
        << Format("%.1f", s.translation_error_cm.median) << " | " << s.num_valid << " | "
-       << Format("%.2f", s.mean_time_s) << " | " << PathsText(s.paths) << " |\n";
+       << VerdictsText(s.verdicts) << " | " << Format("%.2f", s.mean_time_s) << " | "
+       << Format("%.0f", s.median_time_ms) << " | " << Percent(s.object_path_share) << " | "
+       << PathsText(s.paths) << " |\n";
   }
   return md.str();
 }
@@ -231,9 +284,10 @@ std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summa
 std::string FramePairSummaryMarkdown(const std::vector<FramePairSummary>& summaries) {
   std::ostringstream md;
   md << "| benchmark | pairs | done | RE acc 5 / 10 / 45 deg (%) | RE mean / med (deg) | "
-        "TE acc 5 / 10 / 25 cm (%) | TE mean / med (cm) | valid verdicts | time / pair (s) | "
-        "paths |\n";
-  md << "|---|---|---|---|---|---|---|---|---|---|\n";
+        "TE acc 5 / 10 / 25 cm (%) | TE mean / med (cm) | success (%) | valid verdicts | "
+        "valid-right / valid-WRONG / invalid-right / invalid-wrong | time / pair (s) | "
+        "median (ms) | object path (%) | paths |\n";
+  md << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const FramePairSummary& s : summaries) {
     auto accuracies = [](const std::vector<double>& a) {
       std::string text;
@@ -244,10 +298,29 @@ std::string FramePairSummaryMarkdown(const std::vector<FramePairSummary>& summar
        << accuracies(s.rotation_accuracy) << " | " << Format("%.2f", s.rotation_error_deg.mean)
        << " / " << Format("%.2f", s.rotation_error_deg.median) << " | "
        << accuracies(s.translation_accuracy) << " | " << Format("%.1f", s.translation_error_cm.mean)
-       << " / " << Format("%.1f", s.translation_error_cm.median) << " | " << s.num_valid << " | "
-       << Format("%.2f", s.mean_time_s) << " | " << PathsText(s.paths) << " |\n";
+       << " / " << Format("%.1f", s.translation_error_cm.median) << " | " << Percent(s.success)
+       << " | " << s.num_valid << " | " << VerdictsText(s.verdicts) << " | "
+       << Format("%.2f", s.mean_time_s) << " | " << Format("%.0f", s.median_time_ms) << " | "
+       << Percent(s.object_path_share) << " | " << PathsText(s.paths) << " |\n";
   }
   return md.str();
+}
+
+void WriteListEstLog(const std::string& path, const std::vector<PairTask>& tasks,
+                     const std::vector<PairRecord>& records) {
+  const auto done = IndexDone(records);
+  std::vector<LogEntry> entries;
+  for (const PairTask& t : tasks) {
+    const auto it = done.find(t.Key());
+    if (it == done.end()) continue;
+    LogEntry e;
+    e.i = t.target_id;
+    e.j = t.source_id;
+    e.n = it->second->log_n;
+    e.T_i_j = it->second->T_est;  // T_target_source = T_i_j
+    entries.push_back(e);
+  }
+  WriteLogFile(path, entries);
 }
 
 std::vector<std::string> WriteEstLogs(const std::string& dir, const std::vector<PairTask>& tasks,

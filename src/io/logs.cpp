@@ -92,6 +92,7 @@ std::vector<LogEntry> ReadLogFile(const std::string& path) {
   std::vector<double> values;
   while (reader.Next(&tokens)) {
     LogEntry e;
+    e.line = reader.line_number();
     ParseHeader(reader, tokens, &e.i, &e.j, &e.n);
     ParseRows(reader, 4, 4, "the 4x4 transform", &values);
     for (int r = 0; r < 4; ++r) {

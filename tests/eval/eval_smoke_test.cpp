@@ -118,8 +118,53 @@ TEST_F(EvalSmoke, ShardsMergedThroughTheCliEqualTheSingleRun) {
   ASSERT_EQ(merge.exit_code, 0) << merge.output;
   json a = ReadJson(Out("all") + "/summary.json")["benchmarks"];
   json b = ReadJson(Out("m") + "/summary.json")["benchmarks"];
-  for (json* j : {&a, &b}) (*j)[0].erase("mean_time_s");
+  for (json* j : {&a, &b}) {
+    (*j)[0].erase("mean_time_s");
+    (*j)[0].erase("median_time_ms");
+  }
   EXPECT_EQ(a, b);
+}
+
+TEST_F(EvalSmoke, PairListRunWritesEstLogAndScoresAgainstGtLog) {
+  const std::string list = testing::SharedDir() + "/lists/hololens-gap1";
+  const std::string data = testing::SharedDir() + "/data/hololens-office";
+  const std::string out = Out("list");
+  const std::string command = "eval pairs --list '" + list + "' --data '" + data +
+                              "' --limit 3 --method sift --jobs 2 --no-progress --out '";
+  const auto run = RunCli(command + out + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  const std::vector<LogEntry> gt = ReadLogFile(list + "/gt.log");
+  const std::vector<LogEntry> est = ReadLogFile(out + "/est.log");
+  ASSERT_EQ(est.size(), 3u);
+  std::vector<PairRecord> records = ReadPairsJsonl(out + "/pairs.jsonl");
+  ASSERT_EQ(records.size(), 3u);
+  std::sort(records.begin(), records.end(),
+            [](const PairRecord& a, const PairRecord& b) { return a.target_id < b.target_id; });
+  for (size_t k = 0; k < 3; ++k) {
+    // pairs.txt order (3 4, 6 7, 9 10); the ground truth is gt.log's matrix.
+    EXPECT_EQ(est[k].i, gt[k].i);
+    EXPECT_EQ(est[k].j, gt[k].j);
+    EXPECT_EQ(records[k].target_id, gt[k].i);
+    EXPECT_EQ(records[k].T_gt, gt[k].T_i_j);
+    EXPECT_EQ(est[k].T_i_j, records[k].T_est);
+    EXPECT_EQ(records[k].path, "sift");
+  }
+  const json s = ReadJson(out + "/summary.json")["benchmarks"][0];
+  EXPECT_EQ(s["benchmark"], "hololens-gap1");
+  EXPECT_EQ(s["done"], 3);
+  EXPECT_EQ(s["valid_right"].get<int>() + s["valid_wrong"].get<int>() +
+                s["invalid_right"].get<int>() + s["invalid_wrong"].get<int>(),
+            3);
+  EXPECT_DOUBLE_EQ(s["object_path_share"].get<double>(), 0.0);
+  // --list and --gap exclude each other; a resumed folder refuses another list.
+  const auto both = RunCli(command + Out("y") + "' --gap 5");
+  EXPECT_NE(both.exit_code, 0) << both.output;
+  EXPECT_NE(both.output.find("excludes"), std::string::npos) << both.output;
+  const auto other =
+      RunCli("eval pairs --list '" + testing::SharedDir() + "/lists/hololens-gap5' --data '" +
+             data + "' --limit 3 --method sift --no-progress --out '" + out + "'");
+  EXPECT_EQ(other.exit_code, 2) << other.output;
+  EXPECT_NE(other.output.find("another config or data"), std::string::npos) << other.output;
 }
 
 TEST_F(EvalSmoke, ThreeDMatchFusesOnlyNeededFragmentsAndScoresLikeTheGroundTruthFiles) {

@@ -173,6 +173,88 @@ TEST(EvalSummary, FramePairAccuraciesMeansAndMedians) {
       << md;
 }
 
+TEST(EvalSummary, FramePairSuccessConfusionObjectShareAndMedianTime) {
+  const Transform gt = Pose(5, 0.1, 0, 0);
+  std::vector<PairTask> tasks;
+  std::vector<PairRecord> records;
+  // (rotation error deg, translation error m, valid, path, time ms):
+  //   right = RE < 15 deg and TE < 30 cm.
+  struct Case {
+    double rot, trans;
+    bool valid;
+    const char* path;
+    double ms;
+  };
+  const Case cases[] = {
+      {1, 0.02, true, "object", 100},           // valid, right
+      {14.9, 0.29, true, "object", 300},        // valid, right (just inside)
+      {16, 0.02, true, "image-fallback", 200},  // valid, WRONG (rotation)
+      {1, 0.31, true, "object", 400},           // valid, WRONG (translation)
+      {2, 0.05, false, "image", 500},           // invalid, right
+      {40, 1.0, false, "object-centroids", 50}  // invalid, wrong
+  };
+  for (size_t k = 0; k < std::size(cases); ++k) {
+    PairTask t;
+    t.benchmark = "list";
+    t.scene = "s";
+    t.target_id = static_cast<int>(k);
+    t.source_id = static_cast<int>(k) + 1;
+    tasks.push_back(t);
+    MethodOutput o = Output(gt * Pose(cases[k].rot, cases[k].trans, 0, 0), {});
+    o.valid = cases[k].valid;
+    o.path = cases[k].path;
+    records.push_back(ScorePair(t, "m", o, gt, cases[k].ms));
+  }
+  PairTask missing;  // selected but not finished: counts nowhere
+  missing.benchmark = "list";
+  missing.scene = "s";
+  missing.target_id = 100;
+  missing.source_id = 101;
+  tasks.push_back(missing);
+
+  const FramePairSummary s = SummarizeFramePairs(tasks, records).at(0);
+  EXPECT_EQ(s.num_done, 6);
+  EXPECT_DOUBLE_EQ(s.success, 3.0 / 6.0);
+  EXPECT_EQ(s.verdicts.valid_right, 2);
+  EXPECT_EQ(s.verdicts.valid_wrong, 2);
+  EXPECT_EQ(s.verdicts.invalid_right, 1);
+  EXPECT_EQ(s.verdicts.invalid_wrong, 1);
+  EXPECT_DOUBLE_EQ(s.object_path_share, 3.0 / 6.0);
+  EXPECT_EQ(s.paths.at("object"), 3);
+  EXPECT_DOUBLE_EQ(s.median_time_ms, 250.0);  // of 50 100 200 300 400 500
+  const nlohmann::json j = ToJson(s);
+  EXPECT_EQ(j["valid_wrong"], 2);
+  EXPECT_EQ(j["invalid_right"], 1);
+  EXPECT_DOUBLE_EQ(j["success"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(j["object_path_share"].get<double>(), 0.5);
+  EXPECT_DOUBLE_EQ(j["median_time_ms"].get<double>(), 250.0);
+  const std::string md = FramePairSummaryMarkdown({s});
+  EXPECT_NE(md.find("| 50.0 | 4 | 2 / **2** / 1 / 1 |"), std::string::npos) << md;
+}
+
+TEST(EvalSummary, MatchConfusionUsesRegisteredAndSkipsConsecutivePairs) {
+  const Transform gt = Pose(30, 0.5, -0.2, 0.1);
+  const PairTask a = MatchTask("3DMatch", 0, 2, gt);  // registered, valid
+  const PairTask b = MatchTask("3DMatch", 0, 3, gt);  // not registered, valid -> WRONG
+  const PairTask c = MatchTask("3DMatch", 0, 4, gt);  // not registered, invalid
+  const PairTask d = MatchTask("3DMatch", 0, 1, gt);  // consecutive: not counted
+  const Transform far = gt * Pose(0, 0.5, 0, 0);
+  MethodOutput invalid = Output(far, {});
+  invalid.valid = false;
+  invalid.path = "image";
+  const std::vector<PairRecord> records = {
+      ScorePair(a, "m", Output(gt, {}), gt, 10), ScorePair(b, "m", Output(far, {}), gt, 20),
+      ScorePair(c, "m", invalid, gt, 30), ScorePair(d, "m", Output(far, {}), gt, 40)};
+  const MatchBenchmarkSummary s = SummarizeMatch({a, b, c, d}, records).at(0);
+  EXPECT_EQ(s.verdicts.valid_right, 1);
+  EXPECT_EQ(s.verdicts.valid_wrong, 1);
+  EXPECT_EQ(s.verdicts.invalid_right, 0);
+  EXPECT_EQ(s.verdicts.invalid_wrong, 1);
+  EXPECT_DOUBLE_EQ(s.object_path_share, 3.0 / 4.0);
+  EXPECT_DOUBLE_EQ(s.median_time_ms, 25.0);
+  EXPECT_EQ(ToJson(s)["valid_wrong"], 1);
+}
+
 TEST(EvalRecords, JsonRoundTripIsExact) {
   const Transform gt = Pose(33, 0.123456789, -1.5, 2.25);
   const PairTask t = MatchTask("3DMatch", 3, 7, gt);
