@@ -22,9 +22,10 @@ struct FeatureConfig {
 struct LiftConfig {
   double min_depth_m = 0.1;  // closer readings are sensor noise for structured-light cameras
   double max_depth_m = 8.0;  // beyond this, consumer depth is too noisy to register with
-  // A pixel is on a depth edge (and skipped) when some pixel within depth_edge_radius_px differs in
-  // depth by more than depth_edge_relative * depth, or is invalid. Colour and depth are not always
-  // registered (7-Scenes: ~5 px), so the radius is a few pixels.
+  // A pixel is on a depth edge (and skipped) when some valid pixel within depth_edge_radius_px
+  // differs in depth by more than depth_edge_relative * depth. Invalid pixels do not count (HoloLens
+  // depth has thin holes everywhere). Colour and depth are not always registered (7-Scenes: ~5 px),
+  // so the radius is a few pixels.
   int depth_edge_radius_px = 4;
   double depth_edge_relative = 0.05;
 };

@@ -13,14 +13,16 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
   if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return std::nullopt;
   const float z = depth.at<float>(v, u);
   if (!(z >= config.min_depth_m && z <= config.max_depth_m)) return std::nullopt;
-  // Depth edge: a missing or much nearer/farther reading within the radius means the pixel may
-  // belong to either surface (and colour/depth misalignment makes that likely).
+  // Depth edge: a much nearer/farther reading within the radius means the pixel may belong to
+  // either surface (and colour/depth misalignment makes that likely). Missing readings do not
+  // count: HoloLens depth has a regular pattern of thin holes all over the image (data MANIFEST),
+  // and treating every hole as an edge dropped most of its keypoints (issue 10).
   const int r = config.depth_edge_radius_px;
   const float tolerance = static_cast<float>(config.depth_edge_relative) * z;
   for (int y = std::max(0, v - r); y <= std::min(depth.rows - 1, v + r); ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {
-      if (row[x] <= 0.0f || std::abs(row[x] - z) > tolerance) return std::nullopt;
+      if (row[x] > 0.0f && std::abs(row[x] - z) > tolerance) return std::nullopt;
     }
   }
   const Intrinsics& K = view.intrinsics;

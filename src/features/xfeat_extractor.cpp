@@ -46,9 +46,23 @@ XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfi
 
 ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   const int n = kInputSize, cells = kInputSize / kCell;
-  cv::Mat resized;
-  cv::resize(bgr, resized, cv::Size(n, n), 0, 0, cv::INTER_LINEAR);
-  const cv::Mat blob = cv::dnn::blobFromImage(resized, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
+  // The network takes a fixed 640x640 input. The image is scaled uniformly so that its longer side
+  // fits (a 640x480 frame is not scaled at all) and the rest is filled with the image's mean
+  // colour: stretching it to the square instead (as before issue 10) distorted 540x360 HoloLens
+  // frames by 1.19x / 1.78x, so the same surface looked different in two views at different
+  // angles. The flat fill gives no keypoints; any found within a cell of it are dropped below.
+  const double scale =
+      std::min(static_cast<double>(n) / bgr.cols, static_cast<double>(n) / bgr.rows);
+  const int width = std::min(n, static_cast<int>(std::lround(bgr.cols * scale)));
+  const int height = std::min(n, static_cast<int>(std::lround(bgr.rows * scale)));
+  cv::Mat square(n, n, CV_8UC3, cv::mean(bgr));
+  if (width == bgr.cols && height == bgr.rows) {
+    bgr.copyTo(square(cv::Rect(0, 0, width, height)));
+  } else {
+    cv::resize(bgr, square(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,
+               cv::INTER_AREA);
+  }
+  const cv::Mat blob = cv::dnn::blobFromImage(square, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
                                               /*swapRB=*/true, /*crop=*/false);
   std::vector<cv::Mat> outputs;
   {
@@ -86,10 +100,12 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   };
   std::vector<Candidate> candidates;
   const float threshold = static_cast<float>(config_.xfeat_detection_threshold);
+  const int x_end = width < n ? width - kCell : n, y_end = height < n ? height - kCell : n;
   for (int y = 0; y < n; ++y) {
     const float* h = heat.ptr<float>(y);
     const float* m = local_max.ptr<float>(y);
     for (int x = 0; x < n; ++x) {
+      if (x >= x_end || y >= y_end) break;  // the fill and its border
       if (h[x] > threshold && h[x] >= m[x]) {
         // Cell coordinates of pixel centre (x, y) with align_corners = false.
         const float u = (static_cast<float>(x) + 0.5f) / kCell - 0.5f;
@@ -109,7 +125,7 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
 
   ImageFeatures out;
   out.descriptors.resize(static_cast<Eigen::Index>(candidates.size()), descriptor_dim);
-  const float sx = static_cast<float>(bgr.cols) / n, sy = static_cast<float>(bgr.rows) / n;
+  const float sx = static_cast<float>(bgr.cols) / width, sy = static_cast<float>(bgr.rows) / height;
   std::vector<float> d(descriptor_dim);
   for (size_t i = 0; i < candidates.size(); ++i) {
     const Candidate& c = candidates[i];
