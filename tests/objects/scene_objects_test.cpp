@@ -100,18 +100,25 @@ TEST(SceneObjects, LiftMaskSkipsInvalidDepthAndEdges) {
   view.intrinsics = {100, 100, 32, 24, 64, 48};
   view.color = cv::Mat(48, 64, CV_8UC3, cv::Scalar(0, 0, 0));
   view.depth = cv::Mat(48, 64, CV_32F, cv::Scalar(2.0f));
-  view.depth(cv::Rect(0, 0, 16, 48)).setTo(0.0f);  // left quarter invalid
-  cv::Mat mask(48, 64, CV_8U, cv::Scalar(255));
+  view.depth(cv::Rect(0, 0, 16, 48)).setTo(4.0f);  // left quarter: a surface 2 m behind (an edge)
+  view.depth(cv::Rect(40, 0, 1, 48)).setTo(0.0f);  // a thin hole (HoloLens-style): not an edge
+  cv::Mat mask(48, 64, CV_8U, cv::Scalar(0));
+  mask(cv::Rect(16, 0, 48, 48)).setTo(255);  // the near surface only
   ObjectsConfig objects;
   objects.pixel_stride = 1;
   const auto points = LiftMask(view, mask, objects, LiftConfig());
   ASSERT_FALSE(points.empty());
   const int radius = LiftConfig().depth_edge_radius_px;
+  bool beside_hole = false;
   for (const auto& p : points) {
     EXPECT_DOUBLE_EQ(p.z(), 2.0);
-    // x = (u - cx) z / fx: every lifted pixel lies at least `radius` px right of the hole.
-    EXPECT_GE(p.x() * 100 / 2.0 + 32, 16 + radius - 1e-9);
+    const double u = p.x() * 100 / 2.0 + 32;  // x = (u - cx) z / fx
+    // Every lifted pixel lies at least `radius` px right of the depth jump ...
+    EXPECT_GE(u, 16 + radius - 1e-9);
+    EXPECT_NE(u, 40.0);  // ... and none is the hole itself,
+    beside_hole |= std::abs(u - 41) < 1e-9;
   }
+  EXPECT_TRUE(beside_hole) << "pixels next to a hole are lifted";
 }
 
 }  // namespace
