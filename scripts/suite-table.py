@@ -101,12 +101,12 @@ def markdown(rows):
         out.append("")
     if match:
         out.append("3DMatch / 3DLoMatch redkitchen (right = registered; pairs with j > i + 1):\n")
-        out.append("| benchmark | method | pairs | RR (%) | "
+        out.append("| benchmark | method | pairs (evaluated) | RR (%) | "
                    "valid-right / valid-WRONG / invalid-right / invalid-wrong | object path (%) "
                    "| median ms / pair |")
         out.append("|---|---|---|---|---|---|---|")
         for r in match:
-            out.append(f"| {r['list']} | {r['method']} | {done_text(r)} | "
+            out.append(f"| {r['list']} | {r['method']} | {done_text(r)} ({r['evaluated']}) | "
                        f"{pct(r['registration_recall'])} | {verdicts(r)} | "
                        f"{pct(r['object_path_share'])} | {r['median_time_ms']:.0f} |")
         out.append("")

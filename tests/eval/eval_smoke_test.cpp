@@ -156,6 +156,22 @@ TEST_F(EvalSmoke, PairListRunWritesEstLogAndScoresAgainstGtLog) {
                 s["invalid_right"].get<int>() + s["invalid_wrong"].get<int>(),
             3);
   EXPECT_DOUBLE_EQ(s["object_path_share"].get<double>(), 0.0);
+  // Two shards merged give the same est.log (in pairs.txt order) and confusion.
+  ASSERT_EQ(RunCli(command + Out("s0") + "' --shard 0/2").exit_code, 0);
+  ASSERT_EQ(RunCli(command + Out("s1") + "' --shard 1/2").exit_code, 0);
+  const auto merge =
+      RunCli("eval merge '" + Out("s0") + "' '" + Out("s1") + "' --out '" + Out("m") + "'");
+  ASSERT_EQ(merge.exit_code, 0) << merge.output;
+  const std::vector<LogEntry> merged = ReadLogFile(Out("m") + "/est.log");
+  ASSERT_EQ(merged.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(merged[k].i, est[k].i);
+    EXPECT_EQ(merged[k].j, est[k].j);
+    EXPECT_EQ(merged[k].T_i_j, est[k].T_i_j);
+  }
+  const json m = ReadJson(Out("m") + "/summary.json")["benchmarks"][0];
+  EXPECT_EQ(m["valid_right"], s["valid_right"]);
+  EXPECT_EQ(m["success"], s["success"]);
   // --list and --gap exclude each other; a resumed folder refuses another list.
   const auto both = RunCli(command + Out("y") + "' --gap 5");
   EXPECT_NE(both.exit_code, 0) << both.output;
