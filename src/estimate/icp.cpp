@@ -11,10 +11,16 @@
 namespace zeroreg {
 namespace {
 
+Eigen::Matrix3d SkewSymmetric(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
 // Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result.
 void RunStage(const std::vector<Eigen::Vector3d>& source,
               const open3d::geometry::PointCloud& target, const open3d::geometry::KDTreeFlann& tree,
-              const IcpStage& stage, Transform* T, IcpResult* result) {
+              const IcpStage& stage, const IcpAnchors& anchors, Transform* T, IcpResult* result) {
   const double gate_sq = stage.max_distance_m * stage.max_distance_m;
   std::vector<int> index(1);
   std::vector<double> distance_sq(1);
@@ -36,6 +42,28 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       Jtr += J * r;
       ++matched;
       sum_sq += distance_sq[0];
+    }
+    // Anchors: r = p - q with p = T s, d p / d[w; t] = [-[p]x, I] for the update R ~ I + [w]x.
+    // Both kinds of evidence get an equal say: the anchors in the gate together weigh as much as
+    // the closest-point pairs (a few hundred image matches against thousands of depth samples
+    // would otherwise be outvoted exactly where the depth is weak).
+    Eigen::Matrix<double, 6, 6> anchor_JtJ = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> anchor_Jtr = Eigen::Matrix<double, 6, 1>::Zero();
+    int anchored = 0;
+    for (size_t k = 0; k < anchors.source.size(); ++k) {
+      const Eigen::Vector3d p = (*T * anchors.source[k].homogeneous()).head<3>();
+      const Eigen::Vector3d r = p - anchors.target[k];
+      if (r.squaredNorm() > gate_sq) continue;
+      Eigen::Matrix<double, 3, 6> J;
+      J << -SkewSymmetric(p), Eigen::Matrix3d::Identity();
+      anchor_JtJ += J.transpose() * J;
+      anchor_Jtr += J.transpose() * r;
+      ++anchored;
+    }
+    if (anchored > 0) {
+      const double w = anchors.weight * std::max(1, matched) / (3.0 * anchored);
+      JtJ += w * anchor_JtJ;
+      Jtr += w * anchor_Jtr;
     }
     ++result->iterations;
     result->fitness = static_cast<double>(matched) / source.size();
@@ -66,7 +94,7 @@ std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
 
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
                              const std::vector<Eigen::Vector3d>& target, const Transform& initial,
-                             const std::vector<IcpStage>& stages) {
+                             const std::vector<IcpStage>& stages, const IcpAnchors& anchors) {
   IcpResult result;
   Transform T = initial;
   // The raw points are copied into Open3D clouds once; each resolution thins those.
@@ -89,7 +117,7 @@ IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
           open3d::geometry::KDTreeSearchParamHybrid(3 * stage.voxel_m, 30));
       tree = std::make_unique<open3d::geometry::KDTreeFlann>(*target_thin);
     }
-    RunStage(source_thin->points_, *target_thin, *tree, stage, &T, &result);
+    RunStage(source_thin->points_, *target_thin, *tree, stage, anchors, &T, &result);
   }
   result.T_target_source = T;
   return result;

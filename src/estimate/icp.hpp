@@ -27,6 +27,17 @@ struct IcpStage {
   int iterations = 30;
 };
 
+// Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair
+// adds the 3D residual T * source - target to the fit, gated like the closest-point pairs of each
+// stage. They anchor the motions the geometry leaves weak (sliding along a floor or a wall), where
+// plain ICP follows the bias of pairs at the fringe of the overlap (issue 10).
+struct IcpAnchors {
+  std::vector<Eigen::Vector3d> source, target;  // parallel
+  // Total weight of the anchors in a stage's gate relative to all its closest-point pairs: 1, equal
+  // say for the image evidence and the depth evidence (both residuals in metres).
+  double weight = 1.0;
+};
+
 // The coarse, fine and final stages of RefineConfig, in order.
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config);
 
@@ -34,6 +45,7 @@ std::vector<IcpStage> IcpSchedule(const RefineConfig& config);
 // source and target frames.
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
                              const std::vector<Eigen::Vector3d>& target, const Transform& initial,
-                             const std::vector<IcpStage>& stages);
+                             const std::vector<IcpStage>& stages,
+                             const IcpAnchors& anchors = IcpAnchors());
 
 }  // namespace zeroreg

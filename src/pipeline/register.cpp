@@ -179,9 +179,15 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
             RegistrationResult* r) {
   const RefineConfig& config = pipeline.refine;
   // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
+  IcpAnchors anchors;
+  for (size_t i = 0; i < r->correspondences.size(); ++i) {
+    if (!r->is_inlier[i]) continue;
+    anchors.source.push_back(r->correspondences[i].source);
+    anchors.target.push_back(r->correspondences[i].target);
+  }
   const IcpResult icp =
       RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),
-                         r->T_target_source, IcpSchedule(config));
+                         r->T_target_source, IcpSchedule(config), anchors);
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
   RegistrationResult refined = *r;
