@@ -89,5 +89,31 @@ TEST(Icp, TooFewPointsReturnTheStartUnchanged) {
   EXPECT_EQ(r.iterations, 0);
 }
 
+// Issue 10: on a floor alone, point-to-plane ICP cannot see a start that is off along the floor,
+// and whatever pulls it there (fringe pairs, noise) goes unchecked. The estimate's inlier
+// correspondences anchor those motions: with them ICP lands on the truth, without them it keeps the
+// in-plane error.
+TEST(Icp, AnchorsFixWhatAPlaneLeavesOpen) {
+  std::vector<Eigen::Vector3d> floor;
+  for (double a = 0; a <= 3.0; a += 0.02) {
+    for (double b = 0; b <= 3.0; b += 0.02) floor.emplace_back(a, b, 0.0);
+  }
+  const Transform gt = Motion(10, {0, 0, 1}, {0.3, -0.2, 0.0});  // a motion within the plane
+  const std::vector<Eigen::Vector3d> target = Moved(floor, gt);
+  const Transform start = Motion(1.5, {0, 0, 1}, {0.04, 0.03, 0.0}) * gt;  // 5 cm off in-plane
+  IcpAnchors anchors;
+  for (size_t k = 0; k < floor.size(); k += 997) {  // a few dozen textured floor matches
+    anchors.source.push_back(floor[k]);
+    anchors.target.push_back(target[k]);
+  }
+  ASSERT_GT(anchors.source.size(), 20u);
+  const IcpResult plain = RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig()));
+  const IcpResult anchored =
+      RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig()), anchors);
+  EXPECT_GT(TranslationErrorM(plain.T_target_source, gt), 0.03);  // plain ICP keeps the error
+  EXPECT_LT(TranslationErrorM(anchored.T_target_source, gt), 0.005);
+  EXPECT_LT(RotationErrorDeg(anchored.T_target_source, gt), 0.2);
+}
+
 }  // namespace
 }  // namespace zeroreg
