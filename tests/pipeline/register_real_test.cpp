@@ -131,6 +131,36 @@ TEST(RegisterReal, UnrelatedImagesAreReportedAsFailureNotIdentity) {
   EXPECT_FALSE(r.reason.empty());
 }
 
+// Issue 10: this pair was reported VALID 15 cm off (none of its correspondences within 0.1 m of
+// the true pose) by the count verdict. The scans contradict each other under every estimate the
+// pipeline finds, so the geometric check must refuse it.
+TEST(RegisterReal, ConfidentWrongPairOfIssue10IsInvalid) {
+  const Scan source = Frame(430), target = Frame(280);
+  const RegistrationResult r = Register(source, target);
+  const Transform gt = *target.views[0].T_world_camera_gt;
+  const Transform T_gt = gt.inverse() * *source.views[0].T_world_camera_gt;
+  if (r.valid) {
+    EXPECT_LT(TranslationErrorM(r.T_target_source, T_gt), 0.05) << r.reason;
+  }
+  EXPECT_FALSE(r.valid) << r.reason;
+  EXPECT_TRUE(r.verification.ran);
+  EXPECT_GT(r.verification.violation, VerifyConfig().max_violation) << r.reason;
+  EXPECT_FALSE(r.candidates.empty());
+}
+
+// The verdict is the geometric check's: valid results carry a passed check, and the check of the
+// demo pair finds the scans agreeing on most of their surface with no free-space violations.
+TEST(RegisterReal, ValidMeansTheCheckPassed) {
+  const RegistrationResult r = Register(Frame(20), Frame(0));
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_TRUE(r.verification.passed);
+  EXPECT_GT(r.verification.overlap, 0.8);
+  EXPECT_LT(r.verification.violation, 0.01);
+  int chosen = 0;
+  for (const CandidateSummary& c : r.candidates) chosen += c.chosen;
+  EXPECT_GE(chosen, 1);
+}
+
 TEST(RegisterReal, BadScansRaiseInputErrorNamingTheProblem) {
   Scan source = Frame(20), target = Frame(0);
   Scan empty;
