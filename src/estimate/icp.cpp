@@ -50,7 +50,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
     Eigen::Matrix<double, 6, 6> anchor_JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> anchor_Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int anchored = 0;
-    for (size_t k = 0; k < anchors.source.size(); ++k) {
+    for (size_t k = 0; stage.use_anchors && k < anchors.source.size(); ++k) {
       const Eigen::Vector3d p = (*T * anchors.source[k].homogeneous()).head<3>();
       const Eigen::Vector3d r = p - anchors.target[k];
       if (r.squaredNorm() > gate_sq) continue;
@@ -87,9 +87,12 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
 }  // namespace
 
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
-  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations},
-          {config.voxel_m, config.max_distance_m, config.max_iterations},
-          {config.voxel_m, config.max_distance_final_m, config.max_iterations}};
+  // The anchors hold the coarse stage, whose wide gate is where ICP can be lured along weak
+  // directions by tens of centimetres (cabinet-gap3); the fine stages (gates of 5 and 2 cm) cannot
+  // move far and fit the depth alone, which is more precise than the image matches.
+  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations, true},
+          {config.voxel_m, config.max_distance_m, config.max_iterations, false},
+          {config.voxel_m, config.max_distance_final_m, config.max_iterations, false}};
 }
 
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,

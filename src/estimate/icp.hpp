@@ -25,6 +25,7 @@ struct IcpStage {
   double voxel_m = 0.02;
   double max_distance_m = 0.05;
   int iterations = 30;
+  bool use_anchors = true;  // whether the IcpAnchors enter this stage's fit
 };
 
 // Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair
