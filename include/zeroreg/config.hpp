@@ -14,6 +14,10 @@ struct FeatureConfig {
   int max_keypoints = 4096;       // per image, strongest first (XFeat upstream top-k)
   // XFeat: minimum keypoint heatmap probability (upstream detection threshold).
   double xfeat_detection_threshold = 0.05;
+  // XFeat's fixed 640x640 input: true = scale the image uniformly to fit and fill the rest (keeps
+  // the aspect ratio, issue 10); false = stretch it to the square (before issue 10; a 540x360
+  // HoloLens frame is stretched 1.19x / 1.78x). Kept as a switch for the ablation in CONFIG.md.
+  bool xfeat_keep_aspect = true;
   // SIFT: OpenCV contrast threshold (OpenCV default 0.04).
   double sift_contrast_threshold = 0.04;
 };

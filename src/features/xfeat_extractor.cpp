@@ -53,14 +53,19 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   // angles. The flat fill gives no keypoints; any found within a cell of it are dropped below.
   const double scale =
       std::min(static_cast<double>(n) / bgr.cols, static_cast<double>(n) / bgr.rows);
-  const int width = std::min(n, static_cast<int>(std::lround(bgr.cols * scale)));
-  const int height = std::min(n, static_cast<int>(std::lround(bgr.rows * scale)));
+  const int width =
+      config_.xfeat_keep_aspect ? std::min(n, static_cast<int>(std::lround(bgr.cols * scale))) : n;
+  const int height =
+      config_.xfeat_keep_aspect ? std::min(n, static_cast<int>(std::lround(bgr.rows * scale))) : n;
   cv::Mat square(n, n, CV_8UC3, cv::mean(bgr));
   if (width == bgr.cols && height == bgr.rows) {
     bgr.copyTo(square(cv::Rect(0, 0, width, height)));
   } else {
+    // Linear when enlarging (as before issue 10), area averaging when shrinking (no aliasing).
+    const int interpolation =
+        width >= bgr.cols && height >= bgr.rows ? cv::INTER_LINEAR : cv::INTER_AREA;
     cv::resize(bgr, square(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,
-               cv::INTER_AREA);
+               interpolation);
   }
   const cv::Mat blob = cv::dnn::blobFromImage(square, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
                                               /*swapRB=*/true, /*crop=*/false);

@@ -17,6 +17,7 @@ void Visit(V& v, FeatureConfig& c) {
   v("backend", c.backend);
   v("max_keypoints", c.max_keypoints);
   v("xfeat_detection_threshold", c.xfeat_detection_threshold);
+  v("xfeat_keep_aspect", c.xfeat_keep_aspect);
   v("sift_contrast_threshold", c.sift_contrast_threshold);
 }
 template <typename V>

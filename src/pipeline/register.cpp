@@ -185,9 +185,17 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
     anchors.source.push_back(r->correspondences[i].source);
     anchors.target.push_back(r->correspondences[i].target);
   }
+  // Where the check found the geometry degenerate, the correspondences are what fixes the open
+  // motion, so they hold every stage, not only the coarse one: the fine stages, fitting depth
+  // alone, slid a HoloLens wall-and-floor pair 68 cm along it in 5 cm steps (hololens-gap5
+  // 247-252).
+  std::vector<IcpStage> stages = IcpSchedule(config);
+  if (r->verification.degenerate) {
+    for (IcpStage& stage : stages) stage.use_anchors = true;
+  }
   const IcpResult icp =
       RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),
-                         r->T_target_source, IcpSchedule(config), anchors);
+                         r->T_target_source, stages, anchors);
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
   RegistrationResult refined = *r;
