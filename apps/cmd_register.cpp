@@ -105,7 +105,8 @@ Runner AddRegisterCommand(CLI::App& app) {
                              {"correspondence_inlier_ratio", gt_inliers}};
     }
     if (!o->viz.empty()) {
-      const auto pictures = WriteRegistrationPictures(o->viz, source, target, result);
+      const auto pictures =
+          WriteRegistrationPictures(o->viz, source, target, result, config.verify);
       std::printf("%zu pictures written to %s\n", pictures.size(), o->viz.c_str());
     }
     if (!o->out.empty()) {
@@ -123,8 +124,8 @@ Runner AddRegisterCommand(CLI::App& app) {
       std::ofstream file(json_path);
       if (!file) throw MakeInputError(json_path, "cannot write the result file");
       file << out.dump(2) << "\n";
-      const auto pictures =
-          WriteRegistrationPictures((dir / "pictures").string(), source, target, result);
+      const auto pictures = WriteRegistrationPictures((dir / "pictures").string(), source, target,
+                                                      result, config.verify);
       const RegisteredPlyFiles ply =
           WriteRegisteredPly(o->out_dir, source, target, result.T_target_source);
       std::printf(

@@ -311,4 +311,27 @@ VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
   return v;
 }
 
+std::vector<VerificationSample> VerificationSamples(const Scan& source, const Scan& target,
+                                                    const Transform& T_target_source,
+                                                    const VerifyConfig& config, int view) {
+  std::vector<VerificationSample> out;
+  if (view < 0 || view >= static_cast<int>(target.views.size())) return out;
+  const View& tv = target.views[view];
+  const Transform T = tv.T_scan_camera.inverse() * T_target_source;
+  for (const SurfacePoint& s : SampleSurface(source, config)) {
+    const Eigen::Vector3d p = (T * s.point.homogeneous()).head<3>();
+    double r = 0, tau = 1;
+    const Evidence e = Classify(tv, p, config, &r, &tau);
+    if (e == Evidence::kNone) continue;
+    VerificationSample sample;
+    sample.x = static_cast<float>(tv.intrinsics.fx * p.x() / p.z() + tv.intrinsics.cx);
+    sample.y = static_cast<float>(tv.intrinsics.fy * p.y() / p.z() + tv.intrinsics.cy);
+    sample.kind = e == Evidence::kAgree     ? VerificationSample::kAgree
+                  : e == Evidence::kViolate ? VerificationSample::kViolate
+                                            : VerificationSample::kOccluded;
+    out.push_back(sample);
+  }
+  return out;
+}
+
 }  // namespace zeroreg

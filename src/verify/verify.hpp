@@ -17,6 +17,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
@@ -56,5 +57,16 @@ GeometricAgreement MeasureAgreement(const Scan& source, const Scan& target,
 // the fields).
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
                                       const Transform& T_target_source, const VerifyConfig& config);
+
+// What one source sample says in one target view, for the verification picture.
+struct VerificationSample {
+  float x = 0, y = 0;  // pixel of target view `view` where the sample lands
+  enum Kind { kAgree, kViolate, kOccluded } kind = kAgree;
+};
+// The source samples (every VerifyConfig::pixel_stride-th depth pixel) that land in target view
+// `view` under T_target_source with some evidence, in sampling order.
+std::vector<VerificationSample> VerificationSamples(const Scan& source, const Scan& target,
+                                                    const Transform& T_target_source,
+                                                    const VerifyConfig& config, int view);
 
 }  // namespace zeroreg

@@ -1,5 +1,7 @@
 #include "viz/pictures.hpp"
 
+#include "verify/verify.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -158,9 +160,34 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
   return canvas;
 }
 
+cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
+                         const VerifyConfig& config, int view) {
+  const View& tv = target.views[view];
+  cv::Mat grey, canvas;
+  cv::cvtColor(tv.color, grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(grey / 2 + 64, canvas, cv::COLOR_GRAY2BGR);  // dimmed, so the dots stand out
+  const cv::Scalar colours[] = {cv::Scalar(60, 200, 60), cv::Scalar(40, 40, 230),
+                                cv::Scalar(40, 210, 230)};  // agree, violate, occluded (BGR)
+  for (const VerificationSample& s :
+       VerificationSamples(source, target, result.T_target_source, config, view)) {
+    cv::circle(canvas,
+               cv::Point(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y))), 1,
+               colours[s.kind], cv::FILLED);
+  }
+  char text[200];
+  const VerificationResult& v = result.verification;
+  std::snprintf(text, sizeof(text),
+                "check %s: overlap %.0f%%, free-space violations %.1f%% (green/red/yellow)",
+                v.ran ? (v.passed ? "passed" : "FAILED") : "off", 100 * v.overlap,
+                100 * v.violation);
+  Caption(canvas, text);
+  return canvas;
+}
+
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
-                                                   const RegistrationResult& result) {
+                                                   const RegistrationResult& result,
+                                                   const VerifyConfig& verify) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw MakeInputError(dir, "cannot create the picture folder (" + ec.message() + ")");
@@ -180,6 +207,10 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     write("correspondences" + suffix, DrawCorrespondences(source, target, result, view, view));
     write("registered" + suffix,
           DrawRegisteredClouds(source, target, result.T_target_source, view));
+  }
+  for (size_t v = 0; v < target.views.size(); ++v) {
+    write("verification-view" + std::to_string(v) + ".png",
+          DrawVerification(source, target, result, verify, static_cast<int>(v)));
   }
   // Pairs of different views (the whole-image fallback may match every source view with every
   // target view): a correspondence picture for each pair that has correspondences.

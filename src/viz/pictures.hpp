@@ -6,13 +6,18 @@
 //                               written when the fallback matched different views);
 //   registered-view<i>.png      both scans' depth points projected into target view i with the
 //                               estimated transform: target blue, source orange; where the two
-//                               agree the colours interleave, where they disagree they split.
+//                               agree the colours interleave, where they disagree they split;
+//   verification-view<i>.png    the geometric check (src/verify) in target view i: the target
+//                               image dimmed, each source depth sample where it lands, green
+//                               where the surfaces agree, red where it lies in the free space the
+//                               target camera saw through, yellow where it is hidden behind.
 #pragma once
 
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 
+#include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
@@ -24,11 +29,15 @@ cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
                             const RegistrationResult& result, int source_view, int target_view);
 cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
                              const Transform& T_target_source, int view);
+cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
+                         const VerifyConfig& config, int view);
 
 // Writes the pictures above for every view pair into `dir` (created if needed) and returns the
 // file paths. Throws InputError if the folder cannot be written.
+// `verify` is the check's config (the pipeline's effective `verify` section).
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
-                                                   const RegistrationResult& result);
+                                                   const RegistrationResult& result,
+                                                   const VerifyConfig& verify = VerifyConfig());
 
 }  // namespace zeroreg

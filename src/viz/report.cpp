@@ -186,7 +186,7 @@ std::string MarkdownToHtml(const std::string& markdown) {
 // ---- pictures ----------------------------------------------------------------------------------
 
 struct Picture {
-  std::string kind;     // "objects", "correspondences", "registered"
+  std::string kind;     // "objects", "correspondences", "registered", "verification"
   int view = 0;         // source view
   int target_view = 0;  // target view (differs from `view` only for cross-view correspondences)
   std::string path;
@@ -198,7 +198,7 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return found;
   static const std::regex name_re(
-      "(objects|correspondences|registered)-view([0-9]+)(?:-([0-9]+))?\\.(png|jpg)");
+      "(objects|correspondences|registered|verification)-view([0-9]+)(?:-([0-9]+))?\\.(png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
@@ -207,7 +207,7 @@ std::vector<Picture> FindPictures(const std::string& dir) {
     found.push_back({m[1], view, m[3].matched ? std::stoi(m[3]) : view, entry.path().string()});
   }
   auto rank = [](const std::string& kind) {
-    return kind == "objects" ? 0 : kind == "correspondences" ? 1 : 2;
+    return kind == "objects" ? 0 : kind == "correspondences" ? 1 : kind == "registered" ? 2 : 3;
   };
   std::sort(found.begin(), found.end(), [&](const Picture& a, const Picture& b) {
     return std::make_tuple(a.view, rank(a.kind), a.target_view) <
@@ -220,6 +220,10 @@ std::string PictureCaption(const std::string& kind) {
   if (kind == "objects") return "matched objects (same colour = matched pair, grey = unmatched)";
   if (kind == "correspondences")
     return "point correspondences (RANSAC inliers green, outliers red)";
+  if (kind == "verification") {
+    return "geometric check in the target view (green: surfaces agree, red: source in the target "
+           "camera's free space, yellow: hidden behind)";
+  }
   return "registered clouds in the target view (target blue, source orange)";
 }
 

@@ -60,5 +60,35 @@ TEST(Pictures, CrossViewCorrespondencesGetTheirOwnPicture) {
   EXPECT_EQ(picture.at<cv::Vec3b>(30, 100), cv::Vec3b(40, 40, 40));  // view pair 0-0 not drawn
 }
 
+// The verification picture colours each source depth sample by what the check found: a source
+// plane 0.5 m in front of the target's plane (identity transform) lies in the target camera's free
+// space (red); the same plane registered onto it agrees (green).
+TEST(Pictures, VerificationPictureShowsAgreementAndFreeSpace) {
+  const Scan target = GreyScan("t", 1, 100);
+  Scan near = GreyScan("s", 1, 40);
+  near.views[0].depth.setTo(1.0f);
+  RegistrationResult result;
+  result.T_target_source = Transform::Identity();
+  auto dominant = [](const cv::Mat& picture) {
+    int red = 0, green = 0;
+    for (int y = 0; y < picture.rows - 20; ++y) {  // above the caption
+      for (int x = 0; x < picture.cols; ++x) {
+        const cv::Vec3b c = picture.at<cv::Vec3b>(y, x);
+        red += c[2] > 200 && c[1] < 80;
+        green += c[1] > 180 && c[2] < 80;
+      }
+    }
+    return std::make_pair(red, green);
+  };
+  const auto [red_near, green_near] =
+      dominant(DrawVerification(near, target, result, VerifyConfig(), 0));
+  EXPECT_GT(red_near, 100);
+  EXPECT_EQ(green_near, 0);
+  const auto [red_same, green_same] =
+      dominant(DrawVerification(GreyScan("s", 1, 40), target, result, VerifyConfig(), 0));
+  EXPECT_GT(green_same, 100);
+  EXPECT_EQ(red_same, 0);
+}
+
 }  // namespace
 }  // namespace zeroreg
