@@ -27,9 +27,9 @@ struct LiftConfig {
   double min_depth_m = 0.1;  // closer readings are sensor noise for structured-light cameras
   double max_depth_m = 8.0;  // beyond this, consumer depth is too noisy to register with
   // A pixel is on a depth edge (and skipped) when some valid pixel within depth_edge_radius_px
-  // differs in depth by more than depth_edge_relative * depth. Invalid pixels do not count (HoloLens
-  // depth has thin holes everywhere). Colour and depth are not always registered (7-Scenes: ~5 px),
-  // so the radius is a few pixels.
+  // differs in depth by more than depth_edge_relative * depth. Invalid pixels do not count
+  // (HoloLens depth has thin holes everywhere). Colour and depth are not always registered
+  // (7-Scenes: ~5 px), so the radius is a few pixels.
   int depth_edge_radius_px = 4;
   double depth_edge_relative = 0.05;
 };
@@ -210,6 +210,13 @@ struct RefineConfig {
   double max_distance_m = 0.05;
   double max_distance_final_m = 0.02;
   int max_iterations = 30;
+  // The estimate's RANSAC inliers anchor ICP (src/estimate/icp.hpp, IcpAnchors): in each stage
+  // the anchors inside its gate together weigh this much relative to all its closest-point pairs
+  // (1 = equal say for image and depth evidence). The coarse stage, whose wide gate is where ICP is
+  // lured along weak directions by tens of centimetres, is anchored; where the check flags the
+  // geometry degenerate every stage gets the coarse weight.
+  double anchor_weight_coarse = 1.0;
+  double anchor_weight_fine = 0.0;
   // No movement guard: with verification on, the refined transform is kept only when the
   // geometric check scores it at least as well as the estimate it started from.
 };

@@ -50,7 +50,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
     Eigen::Matrix<double, 6, 6> anchor_JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> anchor_Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int anchored = 0;
-    for (size_t k = 0; stage.use_anchors && k < anchors.source.size(); ++k) {
+    for (size_t k = 0; stage.anchor_weight > 0 && k < anchors.source.size(); ++k) {
       const Eigen::Vector3d p = (*T * anchors.source[k].homogeneous()).head<3>();
       const Eigen::Vector3d r = p - anchors.target[k];
       if (r.squaredNorm() > gate_sq) continue;
@@ -61,7 +61,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       ++anchored;
     }
     if (anchored > 0) {
-      const double w = anchors.weight * std::max(1, matched) / (3.0 * anchored);
+      const double w = stage.anchor_weight * std::max(1, matched) / (3.0 * anchored);
       JtJ += w * anchor_JtJ;
       Jtr += w * anchor_Jtr;
     }
@@ -87,12 +87,11 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
 }  // namespace
 
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
-  // The anchors hold the coarse stage, whose wide gate is where ICP can be lured along weak
-  // directions by tens of centimetres (cabinet-gap3); the fine stages (gates of 5 and 2 cm) cannot
-  // move far and fit the depth alone, which is more precise than the image matches.
-  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations, true},
-          {config.voxel_m, config.max_distance_m, config.max_iterations, false},
-          {config.voxel_m, config.max_distance_final_m, config.max_iterations, false}};
+  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
+           config.anchor_weight_coarse},
+          {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine},
+          {config.voxel_m, config.max_distance_final_m, config.max_iterations,
+           config.anchor_weight_fine}};
 }
 
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,

@@ -25,7 +25,9 @@ struct IcpStage {
   double voxel_m = 0.02;
   double max_distance_m = 0.05;
   int iterations = 30;
-  bool use_anchors = true;  // whether the IcpAnchors enter this stage's fit
+  // Total weight of the IcpAnchors in this stage's gate relative to all its closest-point pairs
+  // (0 = not used).
+  double anchor_weight = 0.0;
 };
 
 // Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair
@@ -34,9 +36,6 @@ struct IcpStage {
 // plain ICP follows the bias of pairs at the fringe of the overlap (issue 10).
 struct IcpAnchors {
   std::vector<Eigen::Vector3d> source, target;  // parallel
-  // Total weight of the anchors in a stage's gate relative to all its closest-point pairs: 1, equal
-  // say for the image evidence and the depth evidence (both residuals in metres).
-  double weight = 1.0;
 };
 
 // The coarse, fine and final stages of RefineConfig, in order.

@@ -76,6 +76,8 @@ void Visit(V& v, RefineConfig& c) {
   v("voxel_m", c.voxel_m);
   v("max_distance_m", c.max_distance_m);
   v("max_distance_final_m", c.max_distance_final_m);
+  v("anchor_weight_coarse", c.anchor_weight_coarse);
+  v("anchor_weight_fine", c.anchor_weight_fine);
   v("max_iterations", c.max_iterations);
 }
 template <typename V>

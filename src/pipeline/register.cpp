@@ -191,7 +191,9 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
   // 247-252).
   std::vector<IcpStage> stages = IcpSchedule(config);
   if (r->verification.degenerate) {
-    for (IcpStage& stage : stages) stage.use_anchors = true;
+    for (IcpStage& stage : stages) {
+      stage.anchor_weight = std::max(stage.anchor_weight, config.anchor_weight_coarse);
+    }
   }
   const IcpResult icp =
       RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),

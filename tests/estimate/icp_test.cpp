@@ -108,8 +108,10 @@ TEST(Icp, AnchorsFixWhatAPlaneLeavesOpen) {
   }
   ASSERT_GT(anchors.source.size(), 20u);
   const IcpResult plain = RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig()));
+  RefineConfig every_stage;  // what the pipeline does where the check flags degenerate geometry
+  every_stage.anchor_weight_fine = every_stage.anchor_weight_coarse;
   const IcpResult anchored =
-      RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig()), anchors);
+      RefinePointToPlane(floor, target, start, IcpSchedule(every_stage), anchors);
   EXPECT_GT(TranslationErrorM(plain.T_target_source, gt), 0.03);  // plain ICP keeps the error
   EXPECT_LT(TranslationErrorM(anchored.T_target_source, gt), 0.005);
   EXPECT_LT(RotationErrorDeg(anchored.T_target_source, gt), 0.2);
