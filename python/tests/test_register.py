@@ -152,11 +152,11 @@ def test_determinism_same_seed_same_everything(pipeline):
 
 
 def test_config_dict_and_seed(gt_20_0):
-    config = {"features": {"backend": "sift", "max_keypoints": 2000}, "ransac": {"min_inliers": 10}}
+    config = {"features": {"backend": "sift", "max_keypoints": 2000}, "ransac": {"min_inliers": 12}}
     p = zeroreg.Pipeline(config, seed=7)
     assert p.config["features"]["backend"] == "sift"
     assert p.config["features"]["max_keypoints"] == 2000
-    assert p.config["ransac"]["min_inliers"] == 10
+    assert p.config["ransac"]["min_inliers"] == 12
     assert p.config["seed"] == 7
     # Untouched keys keep the defaults.
     assert p.config["match"] == zeroreg.default_config()["match"]
