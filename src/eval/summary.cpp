@@ -207,28 +207,34 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
   return out;
 }
 
+// The verdict confusion of a summary, as the four keys both protocols write.
+void AddVerdictCounts(const VerdictCounts& v, json* out) {
+  (*out)["valid_right"] = v.valid_right;
+  (*out)["valid_wrong"] = v.valid_wrong;
+  (*out)["invalid_right"] = v.invalid_right;
+  (*out)["invalid_wrong"] = v.invalid_wrong;
+}
+
 json ToJson(const MatchBenchmarkSummary& s) {
-  return {{"benchmark", s.benchmark},
-          {"scenes", s.num_scenes},
-          {"pairs", s.num_pairs},
-          {"done", s.num_done},
-          {"missing", s.num_pairs - s.num_done},
-          {"evaluated", s.num_evaluated},
-          {"registered", s.num_registered},
-          {"valid", s.num_valid},
-          {"registration_recall", s.registration_recall},
-          {"inlier_ratio", s.inlier_ratio},
-          {"feature_match_recall", s.feature_match_recall},
-          {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
-          {"translation_error_cm", StatsJson(s.translation_error_cm)},
-          {"mean_time_s", s.mean_time_s},
-          {"median_time_ms", s.median_time_ms},
-          {"paths", s.paths},
-          {"object_path_share", s.object_path_share},
-          {"valid_right", s.verdicts.valid_right},
-          {"valid_wrong", s.verdicts.valid_wrong},
-          {"invalid_right", s.verdicts.invalid_right},
-          {"invalid_wrong", s.verdicts.invalid_wrong}};
+  json out{{"benchmark", s.benchmark},
+           {"scenes", s.num_scenes},
+           {"pairs", s.num_pairs},
+           {"done", s.num_done},
+           {"missing", s.num_pairs - s.num_done},
+           {"evaluated", s.num_evaluated},
+           {"registered", s.num_registered},
+           {"valid", s.num_valid},
+           {"registration_recall", s.registration_recall},
+           {"inlier_ratio", s.inlier_ratio},
+           {"feature_match_recall", s.feature_match_recall},
+           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
+           {"translation_error_cm", StatsJson(s.translation_error_cm)},
+           {"mean_time_s", s.mean_time_s},
+           {"median_time_ms", s.median_time_ms},
+           {"paths", s.paths},
+           {"object_path_share", s.object_path_share}};
+  AddVerdictCounts(s.verdicts, &out);
+  return out;
 }
 
 json ToJson(const FramePairSummary& s) {
@@ -239,24 +245,22 @@ json ToJson(const FramePairSummary& s) {
   for (size_t k = 0; k < s.translation_thresholds_cm.size(); ++k) {
     trans_acc[Format("%g", s.translation_thresholds_cm[k])] = s.translation_accuracy[k];
   }
-  return {{"benchmark", s.benchmark},
-          {"pairs", s.num_pairs},
-          {"done", s.num_done},
-          {"missing", s.num_pairs - s.num_done},
-          {"valid", s.num_valid},
-          {"rotation_accuracy_deg", rot_acc},
-          {"translation_accuracy_cm", trans_acc},
-          {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
-          {"translation_error_cm", StatsJson(s.translation_error_cm)},
-          {"success", s.success},
-          {"mean_time_s", s.mean_time_s},
-          {"median_time_ms", s.median_time_ms},
-          {"paths", s.paths},
-          {"object_path_share", s.object_path_share},
-          {"valid_right", s.verdicts.valid_right},
-          {"valid_wrong", s.verdicts.valid_wrong},
-          {"invalid_right", s.verdicts.invalid_right},
-          {"invalid_wrong", s.verdicts.invalid_wrong}};
+  json out{{"benchmark", s.benchmark},
+           {"pairs", s.num_pairs},
+           {"done", s.num_done},
+           {"missing", s.num_pairs - s.num_done},
+           {"valid", s.num_valid},
+           {"rotation_accuracy_deg", rot_acc},
+           {"translation_accuracy_cm", trans_acc},
+           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
+           {"translation_error_cm", StatsJson(s.translation_error_cm)},
+           {"success", s.success},
+           {"mean_time_s", s.mean_time_s},
+           {"median_time_ms", s.median_time_ms},
+           {"paths", s.paths},
+           {"object_path_share", s.object_path_share}};
+  AddVerdictCounts(s.verdicts, &out);
+  return out;
 }
 
 std::string MatchSummaryMarkdown(const std::vector<MatchBenchmarkSummary>& summaries) {

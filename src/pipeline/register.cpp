@@ -343,7 +343,17 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
     ApplyVerification(source, target, effective, "image-fallback ransac", &fallback);
     timer.Mark("verify");
     fallback.reason += " (object level: " + object_reason + ")";
-    result = std::move(fallback);
+    // Neither passed: the judge is the same check, so the estimate the scans agree with more is
+    // returned (still invalid; ICP below may yet make it pass). Both candidates are listed.
+    const bool object_better =
+        config.verify.enabled && !fallback.valid && result.count_test_passed &&
+        (!fallback.count_test_passed || result.verification.score > fallback.verification.score);
+    if (object_better) {
+      result.candidates = fallback.candidates;
+      result.reason += " (the whole-image fallback scored lower: " + fallback.reason + ")";
+    } else {
+      result = std::move(fallback);
+    }
   }
   // ICP runs whenever there is an estimate the correspondences support (count evidence): a
   // correct estimate a few centimetres off can fail the check and pass after refinement.
