@@ -32,6 +32,9 @@ struct LiftConfig {
   // (7-Scenes: ~5 px), so the radius is a few pixels.
   int depth_edge_radius_px = 4;
   double depth_edge_relative = 0.05;
+  // true: an invalid pixel within the radius also makes an edge (before issue 10; for the
+  // ablation in docs/CONFIG.md).
+  bool holes_are_edges = false;
 };
 
 struct SinkhornConfig {

@@ -40,6 +40,7 @@ void Visit(V& v, LiftConfig& c) {
   v("max_depth_m", c.max_depth_m);
   v("depth_edge_radius_px", c.depth_edge_radius_px);
   v("depth_edge_relative", c.depth_edge_relative);
+  v("holes_are_edges", c.holes_are_edges);
 }
 template <typename V>
 void Visit(V& v, RansacConfig& c) {
