@@ -224,6 +224,10 @@ struct RefineConfig {
   // lured along weak directions by tens of centimetres, is anchored; where the check flags the
   // geometry degenerate every stage gets the coarse weight.
   double anchor_weight_coarse = 1.0;
+  // With verification on, the refined transform is kept only if at least this fraction of the
+  // estimate's RANSAC inliers stay within max_distance_coarse_m of it (0 = no such test): a
+  // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict").
+  double min_kept_inlier_fraction = 0.5;
   double anchor_weight_fine = 0.0;
   // No movement guard: with verification on, the refined transform is kept only when the
   // geometric check scores it at least as well as the estimate it started from.

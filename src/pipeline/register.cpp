@@ -217,7 +217,7 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
     // a refinement. (Counting them at the 5 cm inlier distance instead rejected correct 5 cm
     // corrections on redkitchen-gap60: RANSAC's inliers sit up to 5 cm off its own estimate.)
     const int kept = CountWithin(*r, icp.T_target_source, config.max_distance_coarse_m);
-    if (2 * kept < r->num_inliers) {
+    if (kept < config.min_kept_inlier_fraction * r->num_inliers) {
       std::snprintf(note, sizeof(note),
                     "; ICP refinement rejected: only %d of the %d correspondences that support "
                     "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
