@@ -310,6 +310,16 @@ std::string FramePairSummaryMarkdown(const std::vector<FramePairSummary>& summar
   return md.str();
 }
 
+// The est.log entry of a finished pair: "i j n" and the estimate T_target_source = T_i_j.
+LogEntry EstLogEntry(const PairTask& t, const PairRecord& r) {
+  LogEntry e;
+  e.i = t.target_id;
+  e.j = t.source_id;
+  e.n = r.log_n;
+  e.T_i_j = r.T_est;
+  return e;
+}
+
 void WriteListEstLog(const std::string& path, const std::vector<PairTask>& tasks,
                      const std::vector<PairRecord>& records) {
   const auto done = IndexDone(records);
@@ -317,12 +327,7 @@ void WriteListEstLog(const std::string& path, const std::vector<PairTask>& tasks
   for (const PairTask& t : tasks) {
     const auto it = done.find(t.Key());
     if (it == done.end()) continue;
-    LogEntry e;
-    e.i = t.target_id;
-    e.j = t.source_id;
-    e.n = it->second->log_n;
-    e.T_i_j = it->second->T_est;  // T_target_source = T_i_j
-    entries.push_back(e);
+    entries.push_back(EstLogEntry(t, *it->second));
   }
   WriteLogFile(path, entries);
 }
@@ -340,12 +345,7 @@ std::vector<std::string> WriteEstLogs(const std::string& dir, const std::vector<
     }
     const auto it = done.find(t.Key());
     if (it == done.end()) continue;
-    LogEntry e;
-    e.i = t.target_id;
-    e.j = t.source_id;
-    e.n = it->second->log_n;
-    e.T_i_j = it->second->T_est;  // T_target_source = T_i_j
-    logs[group].push_back(e);
+    logs[group].push_back(EstLogEntry(t, *it->second));
   }
   std::vector<std::string> written;
   for (const auto& group : order) {
