@@ -178,7 +178,6 @@ void ApplyVerification(const Scan& source, const Scan& target, const PipelineCon
 void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeline,
             RegistrationResult* r) {
   const RefineConfig& config = pipeline.refine;
-  // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
   IcpAnchors anchors;
   for (size_t i = 0; i < r->correspondences.size(); ++i) {
     if (!r->is_inlier[i]) continue;
@@ -195,6 +194,7 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
       stage.anchor_weight = std::max(stage.anchor_weight, config.anchor_weight_coarse);
     }
   }
+  // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
   const IcpResult icp =
       RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),
                          r->T_target_source, stages, anchors);

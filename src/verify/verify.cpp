@@ -10,6 +10,21 @@
 namespace zeroreg {
 namespace {
 
+// Tallies of one direction (points of scan A rendered into the views of scan B).
+struct RenderTally {
+  int points = 0;      // sampled depth pixels of A (each counted once, in its best view of B)
+  int agree = 0;       // coincide with a surface of B
+  int violate = 0;     // lie in B's free space
+  int occluded = 0;    // behind B's surface
+  double score = 0.0;  // sum over agreeing points of 1 - (r / tau)^2 minus one per violation
+  double sum_sq_residual = 0.0;  // over agreeing points, m^2
+};
+
+// Tallies of both directions and what they say (the fields of VerificationResult).
+struct GeometricAgreement {
+  double overlap = 0.0, overlap_max = 0.0, violation = 0.0, residual_rms_m = 0.0, score = 0.0;
+};
+
 // A sampled depth pixel of a scan: its point and surface normal in the scan frame.
 struct SurfacePoint {
   Eigen::Vector3d point;
@@ -161,8 +176,6 @@ std::vector<SurfacePoint> Moved(const std::vector<SurfacePoint>& points, const T
 
 GeometricAgreement Summarise(const RenderTally& st, const RenderTally& ts) {
   GeometricAgreement g;
-  g.source_in_target = st;
-  g.target_in_source = ts;
   const auto fraction = [](int part, int whole) {
     return whole > 0 ? static_cast<double>(part) / whole : 0.0;
   };
@@ -175,15 +188,6 @@ GeometricAgreement Summarise(const RenderTally& st, const RenderTally& ts) {
   const int points = st.points + ts.points;
   g.score = points > 0 ? (st.score + ts.score) / points : 0.0;
   return g;
-}
-
-GeometricAgreement Measure(const std::vector<SurfacePoint>& source_points,
-                           const std::vector<SurfacePoint>& target_points, const Scan& source,
-                           const Scan& target, const Transform& T_target_source,
-                           const VerifyConfig& config) {
-  const RenderTally st = Render(Moved(source_points, T_target_source), target, config);
-  const RenderTally ts = Render(Moved(target_points, T_target_source.inverse()), source, config);
-  return Summarise(st, ts);
 }
 
 // The rigid motion (in the target frame) that the agreeing source surfaces constrain least: the
@@ -218,12 +222,6 @@ Transform WeakestMotion(const std::vector<SurfacePoint>& agreeing, double distan
 
 }  // namespace
 
-GeometricAgreement MeasureAgreement(const Scan& source, const Scan& target,
-                                    const Transform& T_target_source, const VerifyConfig& config) {
-  return Measure(SampleSurface(source, config), SampleSurface(target, config), source, target,
-                 T_target_source, config);
-}
-
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
                                       const Transform& T_target_source,
                                       const VerifyConfig& config) {
@@ -242,8 +240,13 @@ VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
     v.reason = why;
     return v;
   }
-  const GeometricAgreement g =
-      Measure(source_points, target_points, source, target, T_target_source, config);
+  // Source samples into the target's views (their evidence is kept for the probe below), target
+  // samples into the source's views.
+  const std::vector<SurfacePoint> moved_source = Moved(source_points, T_target_source);
+  std::vector<Evidence> at_estimate;
+  const RenderTally st = Render(moved_source, target, config, &at_estimate);
+  const RenderTally ts = Render(Moved(target_points, T_target_source.inverse()), source, config);
+  const GeometricAgreement g = Summarise(st, ts);
   v.overlap = g.overlap;
   v.overlap_max = g.overlap_max;
   v.violation = g.violation;
@@ -253,9 +256,6 @@ VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
   // Degeneracy probe along the least constrained motion, in both senses: the fraction of the
   // source samples agreeing at the estimate that the moved estimate puts off the target's surface
   // (in front of or behind it). A plane or a corridor slides: its samples stay on the surface.
-  const std::vector<SurfacePoint> moved_source = Moved(source_points, T_target_source);
-  std::vector<Evidence> at_estimate;
-  Render(moved_source, target, config, &at_estimate);
   std::vector<SurfacePoint> agreeing;
   for (size_t k = 0; k < moved_source.size(); ++k) {
     if (at_estimate[k] == Evidence::kAgree && !moved_source[k].normal.isZero()) {

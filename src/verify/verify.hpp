@@ -24,37 +24,8 @@
 
 namespace zeroreg {
 
-// Tallies of one direction (points of scan A rendered into the views of scan B).
-struct RenderTally {
-  int points = 0;      // sampled depth pixels of A (each counted once, in its best view of B)
-  int agree = 0;       // coincide with a surface of B
-  int violate = 0;     // lie in B's free space
-  int occluded = 0;    // behind B's surface
-  double score = 0.0;  // sum over agreeing points of 1 - (r / tau)^2 minus one per violation
-  double sum_sq_residual = 0.0;  // over agreeing points, m^2
-};
-
-// Tallies of both directions and what they say.
-struct GeometricAgreement {
-  RenderTally source_in_target;  // source points under T_target_source, seen by target views
-  RenderTally target_in_source;  // target points under its inverse, seen by source views
-  // Fraction of each scan's sampled points that coincide with a surface of the other; the
-  // smaller of the two (what is seen by both, relative to the scan that sees more).
-  double overlap = 0.0;
-  double overlap_max = 0.0;  // the larger of the two
-  // Violations / (agreements + violations), both directions pooled.
-  double violation = 0.0;
-  double residual_rms_m = 0.0;  // RMS |z - d| over agreeing points, both directions
-  // Mean score per sampled point, both directions; the number the candidates are ranked by.
-  double score = 0.0;
-};
-
-// Renders both scans into each other under T_target_source (see the file comment).
-GeometricAgreement MeasureAgreement(const Scan& source, const Scan& target,
-                                    const Transform& T_target_source, const VerifyConfig& config);
-
-// MeasureAgreement, the degeneracy probe and the thresholds of VerifyConfig (types.hpp documents
-// the fields).
+// Renders both scans into each other under T_target_source (see the file comment), runs the
+// degeneracy probe and applies the thresholds of VerifyConfig (types.hpp documents the fields).
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
                                       const Transform& T_target_source, const VerifyConfig& config);
 
