@@ -50,9 +50,9 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
       ->capture_default_str();
   app.add_option("--jobs,-j", o->jobs, "pairs evaluated in parallel (one method instance each)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 256));
+      ->check(InRange(1, 256, /*integer=*/true));
   app.add_option("--limit", o->limit, "only the first N selected pairs (0 = all)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(AtLeast(0, /*integer=*/true));
   app.add_option("--pairs", o->pairs_file,
                  "only these pairs: a file of lines \"i j\" (target i, source j as in gt.log)");
   app.add_option("--shard", o->shard,
@@ -218,7 +218,7 @@ int RunMatch(const MatchOptions& o) {
   const MethodFactory factory = o.fuse_only ? MethodFactory()
                                             : MakeMethodFactory(o.common.method, method.pipeline,
                                                                 method.fpfh, method.features);
-  PrepareOutDir(o.common.out, info);
+  const OutDirLock lock = PrepareOutDir(o.common.out, info);
 
   // Lazy fusion: only the fragments of this shard's pairs that are not finished yet.
   const std::vector<std::string> done_keys =
@@ -282,7 +282,7 @@ int RunFramePairs(const FramePairOptions& o) {
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
   const MethodFactory factory =
       MakeMethodFactory(o.common.method, method.pipeline, method.fpfh, method.features);
-  PrepareOutDir(o.common.out, info);
+  const OutDirLock lock = PrepareOutDir(o.common.out, info);
   return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
 }
 
@@ -329,15 +329,15 @@ Runner AddEvalCommand(CLI::App& app) {
       ->capture_default_str();
   match->add_option("--views", m->fuse.num_views, "views kept per fragment (paper Table 5)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 50));
+      ->check(InRange(1, 50, /*integer=*/true));
   match
       ->add_option("--fuse-voxel", m->fuse.voxel_length_m,
                    "TSDF voxel of the fragment fusion in metres (coarser = faster, e.g. for CI)")
       ->capture_default_str()
-      ->check(CLI::Range(0.002, 0.2));
+      ->check(InRange(FuseConfig::kMinVoxelLengthM, FuseConfig::kMaxVoxelLengthM, false));
   match->add_option("--frames-per-fragment", m->frames_per_fragment, "frames fused per fragment")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(AtLeast(1, /*integer=*/true));
   match->add_option("--depth-scale", m->depth_scale,
                     "raw depth units per metre (default: layout's)");
   match->add_flag("--fuse-only", m->fuse_only,
@@ -351,13 +351,13 @@ Runner AddEvalCommand(CLI::App& app) {
       ->required();
   CLI::Option* gap = pairs->add_option("--gap,-g", f->gap, "frame gap g")
                          ->capture_default_str()
-                         ->check(CLI::PositiveNumber);
+                         ->check(AtLeast(1, /*integer=*/true));
   CLI::Option* step = pairs->add_option("--step", f->step, "every step-th i")
                           ->capture_default_str()
-                          ->check(CLI::PositiveNumber);
+                          ->check(AtLeast(1, /*integer=*/true));
   CLI::Option* first = pairs->add_option("--first", f->first, "first i")
                            ->capture_default_str()
-                           ->check(CLI::NonNegativeNumber);
+                           ->check(AtLeast(0, /*integer=*/true));
   pairs
       ->add_option("--list", f->list,
                    "pair list folder instead of --gap: pairs.txt (\"i j\" = target i, source j) "

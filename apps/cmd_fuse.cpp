@@ -2,6 +2,7 @@
 #include <iostream>
 
 #include "commands.hpp"
+#include "config_options.hpp"
 #include "fuse/fuse.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -9,20 +10,36 @@
 namespace zeroreg::cli {
 namespace {
 
-// "A-B" (inclusive) or "a,b,c"; ids must exist in the dataset.
+// "A-B" (inclusive) or "a,b,c"; ids must exist in the dataset. A range is checked id by id as it
+// is expanded, so "0-999999999" stops at the first missing frame instead of allocating gigabytes.
 std::vector<int> ParseFrames(const std::string& text, const Dataset& dataset) {
+  const std::vector<int> available = dataset.FrameIds();
   std::vector<int> ids;
+  auto add = [&](long long id) {
+    if (!std::binary_search(available.begin(), available.end(), id)) {
+      throw MakeInputError("--frames " + text,
+                           "frame " + std::to_string(id) + " is not in " + dataset.root());
+    }
+    ids.push_back(static_cast<int>(id));
+  };
+  std::vector<long long> bounds;
+  const size_t dash = text.find('-');
+  const bool range = dash != std::string::npos && dash > 0;
   try {
-    const size_t dash = text.find('-');
-    if (dash != std::string::npos && dash > 0) {
-      const int first = std::stoi(text.substr(0, dash)), last = std::stoi(text.substr(dash + 1));
-      if (last < first) throw std::invalid_argument("range end before start");
-      for (int i = first; i <= last; ++i) ids.push_back(i);
+    if (range) {
+      size_t used_first = 0, used_last = 0;
+      const std::string first = text.substr(0, dash), last = text.substr(dash + 1);
+      bounds = {std::stoll(first, &used_first), std::stoll(last, &used_last)};
+      if (used_first != first.size() || used_last != last.size() || bounds[1] < bounds[0]) {
+        throw std::invalid_argument("range");
+      }
     } else {
-      size_t start = 0;
-      while (start < text.size()) {
+      for (size_t start = 0; start < text.size();) {
         const size_t comma = text.find(',', start);
-        ids.push_back(std::stoi(text.substr(start, comma - start)));
+        const std::string item = text.substr(start, comma - start);
+        size_t used = 0;
+        bounds.push_back(std::stoll(item, &used));
+        if (used != item.size()) throw std::invalid_argument("list");
         if (comma == std::string::npos) break;
         start = comma + 1;
       }
@@ -30,12 +47,13 @@ std::vector<int> ParseFrames(const std::string& text, const Dataset& dataset) {
   } catch (const std::exception&) {
     throw MakeInputError("--frames " + text, "expected a range A-B (inclusive) or a list a,b,c");
   }
-  const std::vector<int> available = dataset.FrameIds();
-  for (int id : ids) {
-    if (!std::binary_search(available.begin(), available.end(), id)) {
-      throw MakeInputError("--frames " + text,
-                           "frame " + std::to_string(id) + " is not in " + dataset.root());
-    }
+  if (bounds.empty()) {
+    throw MakeInputError("--frames " + text, "expected a range A-B (inclusive) or a list a,b,c");
+  }
+  if (range) {
+    for (long long id = bounds[0]; id <= bounds[1]; ++id) add(id);
+  } else {
+    for (long long id : bounds) add(id);
   }
   return ids;
 }
@@ -59,20 +77,26 @@ Runner AddFuseCommand(CLI::App& app) {
       ->required();
   app.add_option("--out,-o", o->out, "fragment folder to write (scan.json, cloud.ply, views)")
       ->required();
-  app.add_option("--views", o->config.num_views, "views kept with the fragment (default 3)");
-  app.add_option("--voxel", o->config.voxel_length_m, "TSDF voxel size in metres (default 0.01)");
+  app.add_option("--views", o->config.num_views, "views kept with the fragment (default 3)")
+      ->check(AtLeast(1, /*integer=*/true));
+  app.add_option("--voxel", o->config.voxel_length_m,
+                 "TSDF voxel size in metres (default 0.01; at least 0.002, see "
+                 "ZEROREG_MIN_FUSE_VOXEL_M in docs/FORMATS.md)");
   app.add_option("--depth-scale", o->depth_scale, "raw depth units per metre (default: layout's)");
   return [o]() {
     DatasetOptions options;
     options.depth_scale = o->depth_scale;
+    CheckFuseConfig(o->config);  // before the dataset is read
     const auto dataset = OpenDataset(o->dataset, options);
     const std::vector<int> frames = ParseFrames(o->frames, *dataset);
     const bool built = FuseFragment(*dataset, frames, o->config, o->out, [](int done, int total) {
       std::fprintf(stderr, "\rfusing frame %d/%d", done, total);
       if (done == total) std::fprintf(stderr, "\n");
     });
-    std::printf("%s %s (%zu frames, %d views)\n", built ? "fused" : "cached, reused",
-                o->out.c_str(), frames.size(), o->config.num_views);
+    // Fewer frames than --views keeps every frame as a view.
+    const size_t views = ChooseViewFrames(frames, o->config.num_views).size();
+    std::printf("%s %s (%zu frames, %zu views)\n", built ? "fused" : "cached, reused",
+                o->out.c_str(), frames.size(), views);
     return kExitOk;
   };
 }

@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "config_options.hpp"
+#include "io/text_parsing.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -22,7 +23,7 @@ Runner AddInfoCommand(CLI::App& app) {
   AddConfigOptions(app, &o->config);
   return [o]() {
     const PipelineConfig config = BuildConfig(o->config);
-    std::printf("effective config:\n%s\n", ConfigToJson(config).dump(2).c_str());
+    std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
     const std::string assets = ResolveAssetsDir(config.assets_dir);
     std::printf("assets: %s\n", assets.c_str());
     for (const char* file : {"xfeat/xfeat_640x640.onnx", "yolox_nano_coco/yolox_nano.onnx"}) {

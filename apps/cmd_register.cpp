@@ -1,11 +1,11 @@
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 
 #include "commands.hpp"
 #include "config_options.hpp"
 #include "eval/metrics.hpp"
+#include "io/text_parsing.hpp"
 #include "viz/pictures.hpp"
 #include "viz/ply.hpp"
 #include "zeroreg/error.hpp"
@@ -56,6 +56,12 @@ Runner AddRegisterCommand(CLI::App& app) {
   AddConfigOptions(app, &o->config);
 
   return [o]() {
+    // Output paths first: a registration can take seconds, and its result must not be lost.
+    if (!o->out.empty()) CheckOutputFile(o->out, "--out");
+    if (!o->out_dir.empty() && std::filesystem::exists(o->out_dir) &&
+        !std::filesystem::is_directory(o->out_dir)) {
+      throw MakeInputError("--out-dir " + o->out_dir, "is a file; expected a folder");
+    }
     const PipelineConfig config = BuildConfig(o->config);
     DatasetOptions dataset_options;
     dataset_options.depth_scale = o->depth_scale;
@@ -109,10 +115,11 @@ Runner AddRegisterCommand(CLI::App& app) {
           WriteRegistrationPictures(o->viz, source, target, result, config.verify);
       std::printf("%zu pictures written to %s\n", pictures.size(), o->viz.c_str());
     }
+    // Paths that are not UTF-8 are written with U+FFFD in the JSON; the file is replaced
+    // atomically, so it is never left empty.
+    const std::string result_text = detail::DumpJson(out, 2) + "\n";
     if (!o->out.empty()) {
-      std::ofstream file(o->out);
-      if (!file) throw MakeInputError(o->out, "cannot write the result file");
-      file << out.dump(2) << "\n";
+      detail::WriteFileAtomically(o->out, result_text);
       std::printf("result written to %s\n", o->out.c_str());
     }
     if (!o->out_dir.empty()) {
@@ -120,10 +127,7 @@ Runner AddRegisterCommand(CLI::App& app) {
       std::error_code ec;
       std::filesystem::create_directories(dir, ec);
       if (ec) throw MakeInputError(o->out_dir, "cannot create the folder (" + ec.message() + ")");
-      const std::string json_path = (dir / "result.json").string();
-      std::ofstream file(json_path);
-      if (!file) throw MakeInputError(json_path, "cannot write the result file");
-      file << out.dump(2) << "\n";
+      detail::WriteFileAtomically((dir / "result.json").string(), result_text);
       const auto pictures = WriteRegistrationPictures((dir / "pictures").string(), source, target,
                                                       result, config.verify);
       const RegisteredPlyFiles ply =

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "commands.hpp"
+#include "config_options.hpp"
 #include "viz/report.hpp"
 
 namespace zeroreg::cli {
@@ -25,10 +26,10 @@ Runner AddReportCommand(CLI::App& app) {
   app.add_option("--title", o->config.title, "page title (default: the folder's name)");
   app.add_option("--max-width", o->config.max_image_width,
                  "downscale pictures wider than this many pixels (default 1280)")
-      ->check(CLI::PositiveNumber);
+      ->check(AtLeast(1, /*integer=*/true));
   app.add_option("--jpeg-quality", o->config.jpeg_quality,
                  "JPEG quality of re-encoded pictures, 1-100 (default 85)")
-      ->check(CLI::Range(1, 100));
+      ->check(InRange(1, 100, /*integer=*/true));
   app.add_option("--max-pairs-with-pictures", o->config.max_pairs_with_pictures,
                  "eval folders: embed pictures of at most this many pairs (default 200, -1 = all)");
 

@@ -14,12 +14,22 @@ namespace zeroreg::cli {
 struct ConfigOptions {
   std::string config_file;
   std::vector<std::string> overrides;
-  std::optional<std::uint64_t> seed;
+  std::string seed;  // text: parsed by BuildConfig so that -3 or 2^64 are refused, not wrapped
   std::string features;
   std::string assets;
 };
 
 void AddConfigOptions(CLI::App& app, ConfigOptions* options);
+// Throws InputError naming the option (--config file, --seed, --assets, --set) that is wrong.
 PipelineConfig BuildConfig(const ConfigOptions& options);
+
+// Validators with messages in the option's own terms ("--gap: is 0; expected an integer >= 1"),
+// instead of CLI11's "Value 0 not in range 0.000000 to 1797...".
+CLI::Validator AtLeast(double min, bool integer);
+CLI::Validator GreaterThan(double min);
+CLI::Validator InRange(double min, double max, bool integer);
+
+// Refuses an output file whose folder does not exist or is a file, before any work is done.
+void CheckOutputFile(const std::string& path, const std::string& option);
 
 }  // namespace zeroreg::cli

@@ -1,7 +1,8 @@
 // Locating and verifying model files (DESIGN §5).
 //
 // Lookup order for the assets folder: explicit directory (config / --assets), then the
-// ZEROREG_ASSETS environment variable, then <repo>/assets. Every model file is checked against
+// ZEROREG_ASSETS environment variable, then <repo>/assets. An explicit directory that does not
+// exist is an error (no fall-back to the others). Every model file is checked against
 // the sha256 list kept in the repo (scripts/assets.sha256) before it is loaded.
 #pragma once
 

@@ -121,6 +121,10 @@ struct DetectorConfig {
   double nms_iou = 0.45;  // per-class non-maximum suppression IoU (both models' upstream default)
   // "file" backend: folder holding <image stem>.json per image (docs/PERCEPTION.md).
   std::string detections_dir;
+  // "file" backend: a detections file listing more boxes than this is refused (InputError): every
+  // box is segmented and associated, so 10,000 boxes took minutes and gigabytes. 0 = no limit.
+  // COCO-style detectors report at most 100-300 per image.
+  int max_detections = 1000;
 };
 
 // Semantic feature of an object's label (paper §3.2, "Semantic Feature Extraction").

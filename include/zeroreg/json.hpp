@@ -13,8 +13,14 @@ namespace zeroreg {
 
 nlohmann::json ConfigToJson(const PipelineConfig& config);
 // Applies the keys of `json` on top of `config`. `where` names the source (a file or "--set") in
-// error messages. Throws InputError on unknown keys or wrong value types.
+// error messages. Throws InputError on unknown keys, wrong value types or values out of range
+// (docs/CONFIG.md, "Accepted values"); the message names `where` and the key path.
 void ApplyConfigJson(const nlohmann::json& json, const std::string& where, PipelineConfig* config);
+// Checks every value of `config` (types, ranges, finiteness, min < max pairs) as if it had been
+// read from JSON: the Pipeline calls it, so configs built in code are checked too. `where` starts
+// the message.
+void ValidateConfig(const PipelineConfig& config, const std::string& where);
+// Throws InputError naming the file if it is not a regular file, not JSON or not a valid config.
 PipelineConfig ReadConfigFile(const std::string& path);
 // Applies one "section.key=value" override (value parsed as JSON, else as a string).
 void ApplyConfigOverride(const std::string& assignment, PipelineConfig* config);

@@ -28,8 +28,11 @@ struct Intrinsics {
 // One posed RGB-D image.
 struct View {
   std::string name;  // file or frame name, used in messages and pictures
-  cv::Mat color;     // CV_8UC3, BGR
-  cv::Mat depth;     // CV_32FC1, metres, 0 = invalid; same size as color
+  // The colour image file the view was read from (empty when built in memory). Precomputed
+  // detections and masks are looked up by its stem (docs/PERCEPTION.md); without it, by `name`.
+  std::string color_file;
+  cv::Mat color;  // CV_8UC3, BGR
+  cv::Mat depth;  // CV_32FC1, metres, 0 = invalid; same size as color
   Intrinsics intrinsics;
   Transform T_scan_camera = Transform::Identity();  // camera -> scan frame
   // Ground truth, when the dataset has it: camera -> world. Used only for evaluation.

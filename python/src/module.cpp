@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "eval/metrics.hpp"
+#include "io/image_file.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -114,6 +115,39 @@ py::object FromJson(const json& j) {
   }
 }
 
+std::string TypeName(const py::handle& obj);
+
+// A file-system path from Python (str, bytes or os.PathLike) as the bytes the OS uses: os.fsencode
+// turns the surrogate escapes Python uses for a non-UTF-8 file name back into its bytes.
+std::string PathFromPython(const py::handle& obj, const std::string& where) {
+  py::object encoded;
+  try {
+    encoded = py::module_::import("os").attr("fsencode")(obj);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_TypeError)) {
+      throw py::type_error(where + ": got " + TypeName(obj) +
+                           "; expected a path (str, bytes or os.PathLike)");
+    }
+    throw py::value_error(where + ": cannot be used as a file name (" +
+                          py::str(e.value()).cast<std::string>() + ")");
+  }
+  return encoded.cast<std::string>();
+}
+
+bool IsPath(const py::handle& obj) {
+  return py::isinstance<py::str>(obj) || py::isinstance<py::bytes>(obj) ||
+         py::hasattr(obj, "__fspath__");
+}
+
+// Text made from file names (scan and view names) as a Python str: bytes that are not UTF-8 come
+// back as surrogate escapes, exactly as os.fsdecode gives them, instead of failing the call.
+py::str TextToPython(const std::string& text) {
+  PyObject* decoded =
+      PyUnicode_DecodeFSDefaultAndSize(text.data(), static_cast<Py_ssize_t>(text.size()));
+  if (decoded == nullptr) throw py::error_already_set();
+  return py::reinterpret_steal<py::str>(decoded);
+}
+
 // config: None (defaults), a dict with the JSON config's keys, or a path to a JSON config file.
 // seed: None (keep the config's) or a non-negative int that overrides config["seed"].
 PipelineConfig ConfigFromPython(const py::object& config, const py::object& seed) {
@@ -122,9 +156,8 @@ PipelineConfig ConfigFromPython(const py::object& config, const py::object& seed
     // defaults
   } else if (py::isinstance<py::dict>(config)) {
     ApplyConfigJson(ToJson(config, "config"), "config", &out);
-  } else if (py::isinstance<py::str>(config) ||
-             py::hasattr(config, "__fspath__")) {  // str or os.PathLike: a JSON file
-    out = ReadConfigFile(py::module_::import("os").attr("fspath")(config).cast<std::string>());
+  } else if (IsPath(config)) {  // str, bytes or os.PathLike: a JSON file
+    out = ReadConfigFile(PathFromPython(config, "config"));
   } else {
     throw MakeInputError("config", "expected None, a dict or the path of a JSON config file");
   }
@@ -431,7 +464,7 @@ std::vector<Eigen::Vector3d> PointsFromPython(const py::handle& obj, const std::
 // A scan given as a dict (python/zeroreg/__init__.py turns zeroreg.Scan / zeroreg.View objects
 // into dicts before calling in) or as a path specification for LoadScan.
 Scan ScanFromPython(const py::handle& obj, const std::string& where) {
-  if (py::isinstance<py::str>(obj)) return LoadScan(obj.cast<std::string>());
+  if (IsPath(obj)) return LoadScan(PathFromPython(obj, where));
   DictReader d(obj, where);
   Scan scan;
   scan.name = d.GetString("name", where);
@@ -518,7 +551,7 @@ py::dict ViewToPython(const View& v) {
   K(0, 2) = v.intrinsics.cx;
   K(1, 2) = v.intrinsics.cy;
   py::dict d;
-  d["name"] = v.name;
+  d["name"] = TextToPython(v.name);
   d["color"] = ColorToNumpy(v.color);
   d["depth"] = DepthToNumpy(v.depth);
   d["intrinsics"] = MatrixToNumpy(K);
@@ -531,7 +564,7 @@ py::dict ScanToPython(const Scan& scan) {
   py::list views;
   for (const View& v : scan.views) views.append(ViewToPython(v));
   py::dict d;
-  d["name"] = scan.name;
+  d["name"] = TextToPython(scan.name);
   d["views"] = views;
   d["points"] = scan.points.empty() ? py::object(py::none()) : PointsToNumpy(scan.points);
   d["colors"] = scan.colors.empty() ? py::object(py::none()) : PointsToNumpy(scan.colors);
@@ -753,7 +786,12 @@ PYBIND11_MODULE(_zeroreg, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      // Messages name files, whose names need not be UTF-8.
+      const std::string text = e.what();
+      PyObject* message = PyUnicode_DecodeUTF8(text.data(), static_cast<Py_ssize_t>(text.size()),
+                                               "backslashreplace");
+      PyErr_SetObject(PyExc_ValueError, message);
+      Py_XDECREF(message);
     }
   });
 
@@ -770,21 +808,25 @@ PYBIND11_MODULE(_zeroreg, m) {
 
   m.def(
       "load_scan",
-      [](const std::string& spec, double depth_scale) {
+      [](const py::object& spec, double depth_scale) {
         DatasetOptions options;
         options.depth_scale = depth_scale;
-        return ScanToPython(LoadScan(spec, options));
+        return ScanToPython(LoadScan(PathFromPython(spec, "spec"), options));
       },
       py::arg("spec"), py::arg("depth_scale") = 0.0);
 
   m.def(
-      "read_color", [](const std::string& path) { return ColorToNumpy(ReadColorImage(path)); },
+      "read_color",
+      [](const py::object& path) {
+        return ColorToNumpy(ReadColorImage(PathFromPython(path, "path")));
+      },
       py::arg("path"));
 
   m.def(
       "read_depth",
-      [](const std::string& path) {
-        const cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+      [](const py::object& path_obj) {
+        const std::string path = PathFromPython(path_obj, "path");
+        const cv::Mat raw = detail::ReadImageFile(path, "depth image", cv::IMREAD_UNCHANGED);
         if (raw.empty()) {
           throw MakeInputError(path, "cannot be read or decoded; expected a 16-bit PNG");
         }

@@ -94,7 +94,7 @@ def _fields(obj: Any) -> dict:
 
 def _native(scan: Any, where: str) -> Union[str, dict]:
     """A scan as the compiled module takes it: a path string or a dict of dicts."""
-    if isinstance(scan, (str, os.PathLike)):
+    if isinstance(scan, (str, bytes, os.PathLike)):
         return os.fspath(scan)
     if isinstance(scan, Scan):
         scan = _fields(scan)

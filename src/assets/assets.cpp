@@ -145,9 +145,16 @@ namespace detail {
 
 std::string ResolveAssetsDirFrom(const std::string& explicit_dir, const std::string& env_value,
                                  const std::string& repo_dir) {
+  // A folder the user named is meant to be used: falling back to another one would load models
+  // other than those asked for, silently.
+  if (!explicit_dir.empty()) {
+    if (IsDirectory(explicit_dir)) return explicit_dir;
+    throw MakeInputError(explicit_dir,
+                         "assets folder (--assets / assets_dir) does not exist or is not a "
+                         "folder; expected the folder scripts/fetch-assets.sh fills (leave the "
+                         "option out to use $ZEROREG_ASSETS, then <repo>/assets)");
+  }
   std::vector<std::pair<std::string, std::string>> tried;  // (source, path)
-  if (!explicit_dir.empty())
-    tried.emplace_back("explicit directory (--assets / config)", explicit_dir);
   if (!env_value.empty()) tried.emplace_back("environment variable ZEROREG_ASSETS", env_value);
   tried.emplace_back("repository default", JoinPath(repo_dir, "assets"));
 

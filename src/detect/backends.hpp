@@ -2,6 +2,7 @@
 // by the pipeline) and throws InputError naming the file when it cannot be loaded.
 #pragma once
 
+#include <mutex>
 #include <opencv2/dnn.hpp>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@ class YoloxDetector : public Detector {
 
  private:
   cv::dnn::Net net_;
+  std::mutex net_mutex_;  // cv::dnn::Net::forward is not re-entrant: one Pipeline, many threads
   std::vector<std::string> classes_;
   DetectorConfig config_;
   std::string onnx_path_;
@@ -44,6 +46,7 @@ class DarknetDetector : public Detector {
   void CheckWeightsSize(const std::string& weights_path) const;
 
   cv::dnn::Net net_;
+  std::mutex net_mutex_;  // as YoloxDetector's
   std::vector<std::string> classes_;
   std::vector<std::string> output_names_;
   DetectorConfig config_;

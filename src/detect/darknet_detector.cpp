@@ -71,8 +71,11 @@ std::vector<Detection> DarknetDetector::Detect(const cv::Mat& bgr, const std::st
                                               cv::Scalar(), /*swapRB=*/true, /*crop=*/false);
   std::vector<cv::Mat> outs;
   try {
+    std::lock_guard<std::mutex> lock(net_mutex_);
     net_.setInput(blob);
     net_.forward(outs, output_names_);
+    // The outputs share the net's buffers, which the next forward overwrites.
+    for (cv::Mat& out : outs) out = out.clone();
   } catch (const cv::Exception& e) {
     throw MakeInputError(weights_path_, std::string("forward pass failed: ") + e.what());
   }

@@ -12,13 +12,13 @@ namespace zeroreg {
 std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
                                        const DetectorModelPaths& paths) {
   if (!(config.score_threshold >= 0.0 && config.score_threshold <= 1.0)) {
-    throw MakeInputError("detector.score_threshold",
-                         "is " + std::to_string(config.score_threshold) +
-                             ", expected a value in [0, 1]");
+    throw MakeInputError(
+        "detector.score_threshold",
+        "is " + std::to_string(config.score_threshold) + ", expected a value in [0, 1]");
   }
   if (!(config.nms_iou > 0.0 && config.nms_iou <= 1.0)) {
-    throw MakeInputError("detector.nms_iou", "is " + std::to_string(config.nms_iou) +
-                                                 ", expected a value in (0, 1]");
+    throw MakeInputError("detector.nms_iou",
+                         "is " + std::to_string(config.nms_iou) + ", expected a value in (0, 1]");
   }
   if (config.backend == "yolox") {
     return std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config);
@@ -47,7 +47,6 @@ void RequireBgrImage(const cv::Mat& bgr, const std::string& image_name) {
   }
 }
 
-
 std::vector<std::string> ReadClassNames(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw MakeInputError(path, "cannot open class-name list (one name per line expected)");
@@ -72,9 +71,8 @@ std::vector<Detection> NonMaxSuppressionPerClass(const std::vector<Detection>& c
   std::vector<size_t> order(candidates.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   // Stable so that equal scores keep input order: the output is deterministic.
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return candidates[a].score > candidates[b].score;
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return candidates[a].score > candidates[b].score; });
   std::vector<Detection> kept;
   for (size_t i : order) {
     const Detection& d = candidates[i];
@@ -104,8 +102,9 @@ std::string ImageStem(const std::string& image_name) {
 cv::Mat LetterboxTopLeft(const cv::Mat& bgr, int size, double* r) {
   const double scale =
       std::min(static_cast<double>(size) / bgr.rows, static_cast<double>(size) / bgr.cols);
-  const int w = std::min(size, static_cast<int>(std::lround(bgr.cols * scale)));
-  const int h = std::min(size, static_cast<int>(std::lround(bgr.rows * scale)));
+  // At least 1 pixel: a 1x1000 image scales to 0.4 x 416, which cv::resize refuses.
+  const int w = std::clamp(static_cast<int>(std::lround(bgr.cols * scale)), 1, size);
+  const int h = std::clamp(static_cast<int>(std::lround(bgr.rows * scale)), 1, size);
   cv::Mat canvas(size, size, CV_8UC3, cv::Scalar(114, 114, 114));
   cv::Mat resized;
   cv::resize(bgr, resized, cv::Size(w, h), 0, 0, cv::INTER_LINEAR);

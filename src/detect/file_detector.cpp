@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "detect/backends.hpp"
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -22,8 +23,9 @@ std::string FileName(const std::string& path) {
 
 FileDetector::FileDetector(const DetectorConfig& config) : config_(config) {
   if (config_.detections_dir.empty()) {
-    throw MakeInputError("detector.detections_dir",
-                         "is empty; the 'file' detector needs the folder of <image stem>.json files");
+    throw MakeInputError(
+        "detector.detections_dir",
+        "is empty; the 'file' detector needs the folder of <image stem>.json files");
   }
 }
 
@@ -34,17 +36,9 @@ std::string FileDetector::PathFor(const std::string& image_name) const {
 std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
   const std::string path = PathFor(image_name);
   if (bgr.empty()) throw MakeInputError(image_name, "image is empty");
-  std::ifstream in(path);
-  if (!in) {
-    throw MakeInputError(path, "cannot open precomputed detections for image '" + image_name +
-                                   "' (expected <detections_dir>/<image stem>.json)");
-  }
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw MakeInputError(path, std::string("malformed JSON: ") + e.what());
-  }
+  const nlohmann::json doc =
+      detail::ReadJsonFile(path, "precomputed detections file for image '" + image_name +
+                                     "' (expected <detections_dir>/<image stem>.json)");
   if (!doc.is_object()) throw MakeInputError(path, "top level must be a JSON object");
   if (doc.contains("image")) {
     // Optional, but when present it must name this image: guards against renamed/misfiled files.
@@ -61,6 +55,13 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
   const double W = bgr.cols, H = bgr.rows;
   std::vector<Detection> result;
   const auto& list = doc["detections"];
+  if (config_.max_detections > 0 && list.size() > static_cast<size_t>(config_.max_detections)) {
+    throw MakeInputError(path, "lists " + std::to_string(list.size()) +
+                                   " detections, more than detector.max_detections (" +
+                                   std::to_string(config_.max_detections) +
+                                   "); every box is segmented, so this would take very long. "
+                                   "Raise detector.max_detections (0 = no limit) to use them all");
+  }
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string where = path + " detections[" + std::to_string(i) + "]";
     const auto& d = list[i];
@@ -82,14 +83,12 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
     }
     const double t = kBorderTolerancePx;
     if (c[0] < -t || c[1] < -t || c[2] > W + t || c[3] > H + t) {
-      throw MakeInputError(where, "\"box\" [" + std::to_string(c[0]) + ", " +
-                                      std::to_string(c[1]) + ", " + std::to_string(c[2]) + ", " +
-                                      std::to_string(c[3]) + "] lies outside the " +
-                                      std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
-                                      " image");
+      throw MakeInputError(where, "\"box\" [" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
+                                      ", " + std::to_string(c[2]) + ", " + std::to_string(c[3]) +
+                                      "] lies outside the " + std::to_string(bgr.cols) + "x" +
+                                      std::to_string(bgr.rows) + " image");
     }
-    if (!d.contains("label") || !d["label"].is_string() ||
-        d["label"].get<std::string>().empty()) {
+    if (!d.contains("label") || !d["label"].is_string() || d["label"].get<std::string>().empty()) {
       throw MakeInputError(where, "missing key \"label\" (expected a non-empty string)");
     }
     double score = 1.0;  // optional: Florence-2 and similar give no score
@@ -97,8 +96,8 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
       if (!d["score"].is_number()) throw MakeInputError(where, "\"score\" must be a number");
       score = d["score"].get<double>();
       if (!(score >= 0.0 && score <= 1.0)) {
-        throw MakeInputError(where, "\"score\" is " + std::to_string(score) +
-                                        ", expected a value in [0, 1]");
+        throw MakeInputError(
+            where, "\"score\" is " + std::to_string(score) + ", expected a value in [0, 1]");
       }
     }
     if (score < config_.score_threshold) continue;

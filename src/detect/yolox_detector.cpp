@@ -33,8 +33,10 @@ std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::stri
                                               /*crop=*/false);
   cv::Mat out;
   try {
+    std::lock_guard<std::mutex> lock(net_mutex_);
     net_.setInput(blob);
-    out = net_.forward();
+    // clone: the output shares the net's buffer, which the next forward overwrites.
+    out = net_.forward().clone();
   } catch (const cv::Exception& e) {
     throw MakeInputError(onnx_path_, std::string("forward pass failed: ") + e.what());
   }
@@ -68,8 +70,9 @@ std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::stri
         if (score < config_.score_threshold) continue;
         const double cx = (p[0] + gx) * stride, cy = (p[1] + gy) * stride;
         const double w = std::exp(p[2]) * stride, h = std::exp(p[3]) * stride;
-        cv::Rect2f box(static_cast<float>((cx - 0.5 * w) / r), static_cast<float>((cy - 0.5 * h) / r),
-                       static_cast<float>(w / r), static_cast<float>(h / r));
+        cv::Rect2f box(static_cast<float>((cx - 0.5 * w) / r),
+                       static_cast<float>((cy - 0.5 * h) / r), static_cast<float>(w / r),
+                       static_cast<float>(h / r));
         box &= image_rect;
         if (box.width <= 0.0f || box.height <= 0.0f) continue;
         candidates.push_back({box, classes_[best], score, best});

@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -31,6 +32,7 @@ std::string PairText(int i, int j) { return "pair " + std::to_string(i) + " " + 
 
 // pairs.txt: comments (with the optional "# kind: frames" and "# scene: NAME" keys), then "i j".
 std::vector<ListedPair> ReadListedPairs(const std::string& path, std::string* scene) {
+  detail::RequireFile(path, "pair list pairs.txt");  // also refuses a FIFO, which would block
   std::ifstream in(path);
   if (!in) {
     throw MakeInputError(path,

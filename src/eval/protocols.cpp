@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -88,6 +89,7 @@ std::vector<PairTask> FramePairTasks(const std::vector<int>& frame_ids, int gap,
 }
 
 std::vector<std::pair<int, int>> ReadPairsFile(const std::string& path) {
+  detail::RequireFile(path, "pairs file (--pairs)");  // also refuses a FIFO, which would block
   std::ifstream in(path);
   if (!in) throw MakeInputError(path, "cannot open the pairs file; expected lines \"i j\"");
   std::vector<std::pair<int, int>> pairs;

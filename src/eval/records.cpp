@@ -6,6 +6,7 @@
 #include <map>
 
 #include "eval/metrics.hpp"
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 
@@ -193,10 +194,11 @@ std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_la
 }
 
 void WritePairsJsonl(const std::string& path, const std::vector<PairRecord>& records) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out) throw MakeInputError(path, "cannot write the pair results file");
-  for (const PairRecord& r : records) out << PairRecordToJson(r).dump() << "\n";
-  if (!out.flush()) throw MakeInputError(path, "failed writing the pair results file");
+  // Atomic: this also rewrites a file whose last line an interrupted run left truncated, and a
+  // second interruption must not lose the lines already there.
+  std::string text;
+  for (const PairRecord& r : records) text += detail::DumpJson(PairRecordToJson(r)) + "\n";
+  detail::WriteFileAtomically(path, text);
 }
 
 }  // namespace zeroreg

@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -201,7 +202,7 @@ std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::
           ++local.errors;
           std::fprintf(stderr, "\npair %s failed: %s\n", record.key.c_str(), record.error.c_str());
         }
-        out << PairRecordToJson(record).dump() << "\n";
+        out << detail::DumpJson(PairRecordToJson(record)) << "\n";
         out.flush();
         ++local.ran;
         existing.push_back(std::move(record));

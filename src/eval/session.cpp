@@ -1,11 +1,18 @@
 #include "eval/session.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
 
 #include "eval/summary.hpp"
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -25,11 +32,37 @@ json ReadJsonFile(const std::string& path) {
 }
 
 void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::trunc);
-  if (!out || !(out << text) || !out.flush()) throw MakeInputError(path, "cannot write the file");
+  detail::WriteFileAtomically(path, text);
 }
 
+std::string DumpForFile(const json& j) { return detail::DumpJson(j, 2) + "\n"; }
+
 }  // namespace
+
+OutDirLock::OutDirLock(const std::string& out_dir) {
+  std::error_code ec;
+  fs::create_directories(out_dir, ec);
+  if (ec) throw MakeInputError(out_dir, "cannot create the results folder (" + ec.message() + ")");
+  const std::string path = (fs::path(out_dir) / ".lock").string();
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    throw MakeInputError(
+        out_dir, "cannot create the lock file .lock (" + std::string(std::strerror(errno)) + ")");
+  }
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw MakeInputError(out_dir,
+                         "another `zeroreg eval` is writing into this results folder; "
+                         "wait for it to finish or use another --out");
+  }
+}
+
+OutDirLock::~OutDirLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
+}
+
+OutDirLock::OutDirLock(OutDirLock&& other) noexcept : fd_(other.fd_) { other.fd_ = -1; }
 
 json RunInfoToJson(const RunInfo& info) {
   json tasks = json::array();
@@ -67,7 +100,8 @@ RunInfo ReadRunInfo(const std::string& out_dir) {
   return RunInfoFromJson(ReadJsonFile(path), path);
 }
 
-void PrepareOutDir(const std::string& out_dir, const RunInfo& info) {
+OutDirLock PrepareOutDir(const std::string& out_dir, const RunInfo& info) {
+  OutDirLock lock(out_dir);
   const fs::path path = fs::path(out_dir) / "run.json";
   if (fs::exists(path)) {
     const RunInfo old = ReadRunInfo(out_dir);
@@ -78,10 +112,13 @@ void PrepareOutDir(const std::string& out_dir, const RunInfo& info) {
     };
     if (old.protocol != info.protocol) throw differs("protocol");
     if (old.method != info.method) throw differs("method");
-    if (old.settings != info.settings) throw differs("config or data settings");
+    // Compared as written: a path that is not UTF-8 was stored with U+FFFD.
+    if (old.settings != json::parse(detail::DumpJson(info.settings))) {
+      throw differs("config or data settings");
+    }
   }
-  fs::create_directories(out_dir);
-  WriteText(path.string(), RunInfoToJson(info).dump(2) + "\n");
+  WriteText(path.string(), DumpForFile(RunInfoToJson(info)));
+  return lock;
 }
 
 EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
@@ -116,7 +153,7 @@ EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
   s.json["benchmarks"] = benchmarks;
   s.markdown = "# zeroreg eval " + info.protocol + " — method `" + info.method + "`, shard " +
                info.shard + "\n\n" + table + "\n" + "Command: `" + info.command + "`\n";
-  WriteText((fs::path(out_dir) / "summary.json").string(), s.json.dump(2) + "\n");
+  WriteText((fs::path(out_dir) / "summary.json").string(), DumpForFile(s.json));
   WriteText((fs::path(out_dir) / "summary.md").string(), s.markdown);
   return s;
 }
@@ -163,9 +200,9 @@ EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& o
   merged.command = "zeroreg eval merge";
   for (const std::string& d : dirs) merged.command += " " + d;
   merged.command += " --out " + out_dir;
-  fs::create_directories(out_dir);
+  const OutDirLock lock(out_dir);
   const fs::path run_json = fs::path(out_dir) / "run.json";
-  WriteText(run_json.string(), RunInfoToJson(merged).dump(2) + "\n");
+  WriteText(run_json.string(), DumpForFile(RunInfoToJson(merged)));
   WritePairsJsonl((fs::path(out_dir) / "pairs.jsonl").string(), records);
   return WriteSummary(out_dir, merged, merged.tasks, records);
 }

@@ -30,9 +30,27 @@ nlohmann::json RunInfoToJson(const RunInfo& info);
 RunInfo RunInfoFromJson(const nlohmann::json& json, const std::string& where);
 RunInfo ReadRunInfo(const std::string& out_dir);  // <out>/run.json, InputError if absent/bad
 
-// Creates `out_dir` and writes run.json. If the folder already holds a run.json with another
-// protocol, method or settings, throws InputError (resuming would mix two methods' results).
-void PrepareOutDir(const std::string& out_dir, const RunInfo& info);
+// An exclusive lock on a results folder (flock on <out>/.lock), held while the object lives: two
+// runs writing the same folder would evaluate and append every pair twice. The lock goes away
+// with the process, so a killed run leaves no stale lock behind.
+class OutDirLock {
+ public:
+  // Creates `out_dir` if needed; throws InputError naming it if another process holds the lock.
+  explicit OutDirLock(const std::string& out_dir);
+  ~OutDirLock();
+  OutDirLock(OutDirLock&& other) noexcept;
+  OutDirLock(const OutDirLock&) = delete;
+  OutDirLock& operator=(const OutDirLock&) = delete;
+  OutDirLock& operator=(OutDirLock&&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+// Locks and creates `out_dir` and writes run.json. If the folder already holds a run.json with
+// another protocol, method or settings, throws InputError (resuming would mix two methods'
+// results). Keep the returned lock for as long as the run writes into the folder.
+[[nodiscard]] OutDirLock PrepareOutDir(const std::string& out_dir, const RunInfo& info);
 
 struct EvalSummary {
   nlohmann::json json;   // what summary.json holds

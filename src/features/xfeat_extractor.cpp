@@ -74,6 +74,8 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
     std::lock_guard<std::mutex> lock(net_mutex_);
     net_.setInput(blob, "input");
     net_.forward(outputs, std::vector<cv::String>{"output", "1266", "266"});
+    // The outputs share the net's buffers, which the next forward (another thread) overwrites.
+    for (cv::Mat& output : outputs) output = output.clone();
   }
   const float* descriptor_map = outputs[0].ptr<float>();  // 64 x 80 x 80
   const float* logits = outputs[1].ptr<float>();          // 65 x 80 x 80

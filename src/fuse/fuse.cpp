@@ -6,13 +6,16 @@
 #include <open3d/io/PointCloudIO.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -55,6 +58,31 @@ nlohmann::json FuseKey(const Dataset& dataset, const std::vector<int>& frame_ids
 
 }  // namespace
 
+double MinFuseVoxelLengthM() {
+  return detail::LimitFromEnvironment("ZEROREG_MIN_FUSE_VOXEL_M", FuseConfig::kMinVoxelLengthM);
+}
+
+void CheckFuseConfig(const FuseConfig& c) {
+  const double min_voxel = MinFuseVoxelLengthM();
+  if (!(c.voxel_length_m >= min_voxel && c.voxel_length_m <= FuseConfig::kMaxVoxelLengthM)) {
+    std::ostringstream s;
+    s << "is " << c.voxel_length_m << "; expected a voxel size in [" << min_voxel << ", "
+      << FuseConfig::kMaxVoxelLengthM << "] metres (smaller voxels need memory without bound; "
+      << "set ZEROREG_MIN_FUSE_VOXEL_M to lower the limit)";
+    throw MakeInputError("--voxel", s.str());
+  }
+  if (c.num_views < 1) {
+    throw MakeInputError("--views", "is " + std::to_string(c.num_views) +
+                                        "; expected at least 1 view kept with the fragment");
+  }
+  if (!(c.sdf_trunc_m > 0) || !(c.max_depth_m > 0) || !(c.output_voxel_m >= 0) ||
+      !std::isfinite(c.sdf_trunc_m + c.max_depth_m + c.output_voxel_m)) {
+    throw MakeInputError("fuse settings",
+                         "sdf_trunc_m and max_depth_m must be > 0 and "
+                         "output_voxel_m >= 0 (metres)");
+  }
+}
+
 std::vector<int> ChooseViewFrames(const std::vector<int>& frame_ids, int num_views) {
   const int n = static_cast<int>(frame_ids.size());
   if (n == 0 || num_views <= 0) return {};
@@ -72,6 +100,7 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
                   const FuseConfig& config, const std::string& out_dir,
                   const std::function<void(int, int)>& progress) {
   if (frame_ids.empty()) throw MakeInputError("--frames", "no frames to fuse");
+  CheckFuseConfig(config);
   const nlohmann::json key = FuseKey(dataset, frame_ids, config);
   const fs::path dir(out_dir), key_path = dir / "fuse.json";
   if (fs::exists(key_path) && fs::exists(dir / "scan.json") && fs::exists(dir / "cloud.ply")) {
@@ -132,7 +161,7 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
   descriptor.cloud = "cloud.ply";
   descriptor.T_world_scan_gt = T_world_fragment;
   WriteScanDescriptor((dir / "scan.json").string(), descriptor);
-  std::ofstream(key_path) << key.dump(2) << "\n";
+  detail::WriteFileAtomically(key_path.string(), detail::DumpJson(key, 2) + "\n");
   return true;
 }
 

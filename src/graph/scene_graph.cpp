@@ -38,8 +38,7 @@ Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
                                     const Eigen::MatrixXd& semantics,
                                     const SceneGraphConfig& config) {
   if (config.knn < 1) {
-    throw MakeInputError("SceneGraphConfig.knn",
-                         "is " + std::to_string(config.knn) + ", expected >= 1");
+    throw MakeInputError("scene_graph.knn", "is " + std::to_string(config.knn) + ", expected >= 1");
   }
   if (centroids.cols() != 3) {
     throw MakeInputError("centroids", "has " + std::to_string(centroids.cols()) +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -58,7 +59,7 @@ std::string DatasetName(const fs::path& folder) {
 
 double ResolveDepthScale(const DatasetOptions& options, double layout_default) {
   if (options.depth_scale == 0.0) return layout_default;
-  detail::CheckDepthScale(options.depth_scale, "DatasetOptions::depth_scale");
+  detail::CheckDepthScale(options.depth_scale, "--depth-scale (depth_scale)");
   return options.depth_scale;
 }
 
@@ -148,7 +149,18 @@ class ThreeDMatchDataset : public Dataset {
 
   View LoadFrame(int frame_id) const override {
     auto it = colors_.find(frame_id);
-    if (it == colors_.end()) ThrowUnknownFrame(root_, frame_id, FrameIds());
+    if (it == colors_.end()) {
+      // Frames are listed by their colour images: say so when only the colour is missing.
+      char stem[32];
+      std::snprintf(stem, sizeof(stem), "frame-%06d", frame_id);
+      if (IsFile(frames_dir_ / (std::string(stem) + ".depth.png"))) {
+        throw MakeInputError((frames_dir_ / (std::string(stem) + ".color.jpg")).string(),
+                             "colour image not found (neither .color.jpg nor .color.png), though "
+                             "the frame's depth image " +
+                                 std::string(stem) + ".depth.png exists");
+      }
+      ThrowUnknownFrame(root_, frame_id, FrameIds());
+    }
     // Keep the file's own digit string (usually %06d) for the sibling files.
     const std::string stem = it->second.substr(0, it->second.find(".color."));
     const std::string color_path = (frames_dir_ / it->second).string();

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "io/image_checks.hpp"
+#include "io/image_file.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -46,6 +47,7 @@ View MakeCheckedView(const std::string& name, const cv::Mat& color, const std::s
   }
   View view;
   view.name = name;
+  view.color_file = color_path;
   view.color = color;
   view.depth = depth;
   view.intrinsics = intrinsics_without_size;
@@ -92,8 +94,7 @@ Transform ReadPoseFile(const std::string& path) {
 }
 
 cv::Mat ReadColorImage(const std::string& path) {
-  detail::RequireFile(path, "colour image");
-  cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+  cv::Mat image = detail::ReadImageFile(path, "colour image", cv::IMREAD_COLOR);
   if (image.empty()) {
     throw MakeInputError(path,
                          "colour image cannot be decoded (corrupt or unsupported format); expected "
@@ -104,8 +105,7 @@ cv::Mat ReadColorImage(const std::string& path) {
 
 cv::Mat ReadDepthImage(const std::string& path, double depth_scale) {
   detail::CheckDepthScale(depth_scale, path);
-  detail::RequireFile(path, "depth image");
-  const cv::Mat raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = detail::ReadImageFile(path, "depth image", cv::IMREAD_UNCHANGED);
   if (raw.empty()) {
     throw MakeInputError(
         path,

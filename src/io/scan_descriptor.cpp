@@ -51,6 +51,19 @@ double GetNumber(const json& object, const std::string& key, const std::string& 
   return v.get<double>();
 }
 
+// An image width or height: a whole number of pixels in [1, 65535] (the largest side JPEG and
+// common PNG decoders accept). Checked before the cast to int, which would be undefined for 1e30.
+int GetImageSide(const json& object, const std::string& key, const std::string& path,
+                 const std::string& where) {
+  const json& v = object.at(key);
+  const double x = v.is_number() ? v.get<double>() : 0.0;
+  if (!v.is_number() || !(x >= 1 && x <= 65535) || x != std::floor(x)) {
+    throw MakeInputError(path, where + "'" + key + "' is " + detail::DumpJson(v) +
+                                   "; expected a whole number of pixels in [1, 65535]");
+  }
+  return static_cast<int>(x);
+}
+
 Transform GetTransform(const json& object, const std::string& key, const std::string& path,
                        const std::string& where) {
   const json& v = object.at(key);
@@ -103,10 +116,8 @@ ScanDescriptorView ParseView(const json& v, const std::string& path, const std::
     view.intrinsics.fy = GetNumber(k, "fy", path, kwhere);
     view.intrinsics.cx = GetNumber(k, "cx", path, kwhere);
     view.intrinsics.cy = GetNumber(k, "cy", path, kwhere);
-    if (k.contains("width"))
-      view.intrinsics.width = static_cast<int>(GetNumber(k, "width", path, kwhere));
-    if (k.contains("height"))
-      view.intrinsics.height = static_cast<int>(GetNumber(k, "height", path, kwhere));
+    if (k.contains("width")) view.intrinsics.width = GetImageSide(k, "width", path, kwhere);
+    if (k.contains("height")) view.intrinsics.height = GetImageSide(k, "height", path, kwhere);
     detail::CheckIntrinsics(view.intrinsics, path + ": " + kwhere);
   } else {
     const std::string file = detail::ResolvePath(dir, GetString(v, "intrinsics_file", path, where));
@@ -149,23 +160,12 @@ void WriteScanDescriptor(const std::string& path, const ScanDescriptor& descript
   if (!descriptor.cloud.empty()) j["cloud"] = descriptor.cloud;
   if (descriptor.T_world_scan_gt)
     j["T_world_scan_gt"] = TransformToJson(*descriptor.T_world_scan_gt);
-  std::ofstream out(path);
-  if (!out) throw MakeInputError(path, "cannot open the scan descriptor for writing");
   // nlohmann writes doubles with max_digits10, so transforms round-trip exactly.
-  out << j.dump(2) << "\n";
-  if (!out) throw MakeInputError(path, "failed writing the scan descriptor");
+  detail::WriteFileAtomically(path, detail::DumpJson(j, 2) + "\n");
 }
 
 ScanDescriptor ReadScanDescriptor(const std::string& path) {
-  detail::RequireFile(path, "scan descriptor");
-  std::ifstream in(path);
-  if (!in) throw MakeInputError(path, "scan descriptor cannot be opened for reading");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::parse_error& e) {
-    throw MakeInputError(path, std::string("scan descriptor is not valid JSON (") + e.what() + ")");
-  }
+  const json j = detail::ReadJsonFile(path, "scan descriptor");
   if (!j.is_object()) throw MakeInputError(path, "scan descriptor must be a JSON object");
   CheckKeys(j, kTopKeys, path, "");
   const std::string dir = fs::path(path).parent_path().string();

@@ -1,5 +1,6 @@
 #include "io/text_parsing.hpp"
 
+#include <unistd.h>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -21,6 +22,58 @@ void RequireFile(const std::string& path, const std::string& what) {
   if (!fs::is_regular_file(path, ec)) {
     throw MakeInputError(path, what + " is not a regular file");
   }
+}
+
+nlohmann::json ReadJsonFile(const std::string& path, const std::string& what) {
+  RequireFile(path, what);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MakeInputError(path, what + " cannot be opened for reading");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw MakeInputError(path, what + " is not valid JSON (" + e.what() + ")");
+  }
+}
+
+std::string DumpJson(const nlohmann::json& json, int indent) {
+  return json.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+void WriteFileAtomically(const std::string& path, const std::string& text) {
+  const fs::path target(path);
+  // Same folder, so the rename stays on one file system; the pid keeps two writers apart.
+  const fs::path temporary =
+      target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(getpid()));
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out)
+      throw MakeInputError(path, "cannot be written (cannot create " + temporary.string() + ")");
+    out << text;
+    out.flush();
+    if (!out) {
+      out.close();
+      std::error_code ec;
+      fs::remove(temporary, ec);
+      throw MakeInputError(path, "cannot be written (disk full?)");
+    }
+  }
+  std::error_code ec;
+  fs::rename(temporary, target, ec);
+  if (ec) {
+    fs::remove(temporary, ec);
+    throw MakeInputError(path, "cannot be written (" + ec.message() + ")");
+  }
+}
+
+double LimitFromEnvironment(const char* name, double default_value) {
+  const char* text = std::getenv(name);
+  if (text == nullptr || *text == '\0') return default_value;
+  double value = 0.0;
+  if (!ParseDouble(text, &value) || !std::isfinite(value) || value <= 0.0) {
+    throw MakeInputError(
+        name, std::string("environment variable is '") + text + "'; expected a number > 0");
+  }
+  return value;
 }
 
 bool ParseDouble(const std::string& token, double* value) {

@@ -2,6 +2,7 @@
 // validating the matrices they hold. Every failure is an InputError naming the file.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -11,6 +12,23 @@ namespace zeroreg::detail {
 
 // Throws InputError "<path>: <what> not found" unless `path` is an existing regular file.
 void RequireFile(const std::string& path, const std::string& what);
+
+// Parses the JSON file `path` (a regular file: a folder or a FIFO is refused rather than read or
+// waited on). Any JSON error, including a number too large for a double (1e400), is an InputError
+// naming the file and `what` ("config file", "scan descriptor", ...).
+nlohmann::json ReadJsonFile(const std::string& path, const std::string& what);
+
+// `json.dump(indent)` that never throws on text that is not UTF-8 (a path from a non-UTF-8 file
+// system): such bytes are written as U+FFFD, so a result is never lost over a file name.
+std::string DumpJson(const nlohmann::json& json, int indent = -1);
+
+// Writes `text` to `path` through a temporary file in the same folder and a rename, so readers
+// never see a partial file and a failure leaves any previous file intact. InputError on failure.
+void WriteFileAtomically(const std::string& path, const std::string& text);
+
+// A limit that the environment variable `name` may override (docs/FORMATS.md, "Limits"): its
+// value when set (a finite number > 0, else InputError naming the variable), else `default_value`.
+double LimitFromEnvironment(const char* name, double default_value);
 
 // Parses a whitespace-separated token as a double (accepts "inf"/"nan", which callers reject or
 // interpret). Returns false if the token is not entirely a number.

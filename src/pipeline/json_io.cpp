@@ -1,6 +1,11 @@
+#include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <set>
+#include <sstream>
 
+#include "io/text_parsing.hpp"
 #include "object_match/graph_match.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
@@ -10,99 +15,137 @@ namespace {
 
 using nlohmann::json;
 
-// Every config field is listed once, here; the JSON writer and reader both walk these lists, so
-// the two can never disagree. Keys are the struct field names (docs/CONFIG.md).
+// The values a numeric config field accepts: [min, max], the lower end excluded when min_open.
+// Integers are also bounded by their C++ type (no silent wrap-around).
+struct Range {
+  double min = -std::numeric_limits<double>::infinity();
+  double max = std::numeric_limits<double>::infinity();
+  bool min_open = false, max_open = false;
+
+  bool Contains(double x) const {
+    return x >= min && x <= max && !(min_open && x == min) && !(max_open && x == max);
+  }
+};
+constexpr double kInf = std::numeric_limits<double>::infinity();
+Range AtLeast(double min) { return {min, kInf, false, false}; }
+Range Positive() { return {0, kInf, true, false}; }
+Range Between(double min, double max, bool min_open = false) { return {min, max, min_open, false}; }
+Range Open(double min, double max) { return {min, max, true, true}; }
+Range Fraction() { return {0, 1, false, false}; }
+
+std::string FormatNumber(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// "a number > 0", "an integer in [1, 2147483647]", ... for messages.
+std::string Describe(const Range& r, bool integer) {
+  const std::string kind = integer ? "an integer" : "a number";
+  const bool has_min = std::isfinite(r.min), has_max = std::isfinite(r.max);
+  if (has_min && has_max) {
+    return kind + " in " + (r.min_open ? "(" : "[") + FormatNumber(r.min) + ", " +
+           FormatNumber(r.max) + (r.max_open ? ")" : "]");
+  }
+  if (has_min) return kind + (r.min_open ? " > " : " >= ") + FormatNumber(r.min);
+  return integer ? kind : "a finite number";
+}
+
+// Every config field is listed once, here, with the range of values it accepts; the JSON writer
+// and reader both walk these lists, so the two can never disagree. Keys are the struct field names
+// (docs/CONFIG.md). Doubles must also be finite (NaN or infinity is never a usable setting).
 template <typename V>
 void Visit(V& v, FeatureConfig& c) {
   v("backend", c.backend);
-  v("max_keypoints", c.max_keypoints);
-  v("xfeat_detection_threshold", c.xfeat_detection_threshold);
+  v("max_keypoints", c.max_keypoints, AtLeast(1));
+  v("xfeat_detection_threshold", c.xfeat_detection_threshold, Fraction());
   v("xfeat_keep_aspect", c.xfeat_keep_aspect);
-  v("sift_contrast_threshold", c.sift_contrast_threshold);
+  v("sift_contrast_threshold", c.sift_contrast_threshold, AtLeast(0));
 }
 template <typename V>
 void Visit(V& v, SinkhornConfig& c) {
-  v("iterations", c.iterations);
-  v("temperature", c.temperature);
+  v("iterations", c.iterations, AtLeast(1));
+  v("temperature", c.temperature, Positive());
   v("dustbin_score", c.dustbin_score);
-  v("min_probability", c.min_probability);
+  v("min_probability", c.min_probability, Fraction());
   v("mutual", c.mutual);
 }
 template <typename V>
 void Visit(V& v, MatchConfig& c) {
   v("method", c.method);
-  v("min_cosine", c.min_cosine);
+  v("min_cosine", c.min_cosine, Between(-1, 1));
   v.Section("sinkhorn", c.sinkhorn);
 }
 template <typename V>
 void Visit(V& v, LiftConfig& c) {
-  v("min_depth_m", c.min_depth_m);
-  v("max_depth_m", c.max_depth_m);
-  v("depth_edge_radius_px", c.depth_edge_radius_px);
-  v("depth_edge_relative", c.depth_edge_relative);
+  v("min_depth_m", c.min_depth_m, AtLeast(0));
+  v("max_depth_m", c.max_depth_m, Positive());
+  v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
+  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("holes_are_edges", c.holes_are_edges);
 }
 template <typename V>
 void Visit(V& v, RansacConfig& c) {
-  v("inlier_threshold_m", c.inlier_threshold_m);
-  v("max_iterations", c.max_iterations);
-  v("confidence", c.confidence);
-  v("min_inliers", c.min_inliers);
-  v("min_inlier_ratio", c.min_inlier_ratio);
-  v("min_inlier_spread_m", c.min_inlier_spread_m);
+  v("inlier_threshold_m", c.inlier_threshold_m, Positive());
+  v("max_iterations", c.max_iterations, AtLeast(1));
+  v("confidence", c.confidence, Open(0, 1));
+  v("min_inliers", c.min_inliers, AtLeast(3));  // a rigid transform needs 3 points
+  v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
+  v("min_inlier_spread_m", c.min_inlier_spread_m, AtLeast(0));
 }
 template <typename V>
 void Visit(V& v, VerifyConfig& c) {
   v("enabled", c.enabled);
-  v("pixel_stride", c.pixel_stride);
-  v("min_depth_m", c.min_depth_m);
-  v("max_depth_m", c.max_depth_m);
-  v("registration_tolerance_m", c.registration_tolerance_m);
-  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m);
-  v("depth_noise_sigmas", c.depth_noise_sigmas);
-  v("neighbourhood_px", c.neighbourhood_px);
-  v("depth_edge_relative", c.depth_edge_relative);
-  v("min_overlap", c.min_overlap);
-  v("max_violation", c.max_violation);
-  v("probe_translation_m", c.probe_translation_m);
-  v("min_probe_contradicted", c.min_probe_contradicted);
-  v("min_points", c.min_points);
+  v("pixel_stride", c.pixel_stride, AtLeast(1));
+  v("min_depth_m", c.min_depth_m, AtLeast(0));
+  v("max_depth_m", c.max_depth_m, Positive());
+  v("registration_tolerance_m", c.registration_tolerance_m, Positive());
+  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0));
+  v("depth_noise_sigmas", c.depth_noise_sigmas, AtLeast(0));
+  v("neighbourhood_px", c.neighbourhood_px, AtLeast(0));
+  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
+  v("min_overlap", c.min_overlap, Fraction());
+  v("max_violation", c.max_violation, Fraction());
+  v("probe_translation_m", c.probe_translation_m, AtLeast(0));
+  v("min_probe_contradicted", c.min_probe_contradicted, Fraction());
+  v("min_points", c.min_points, AtLeast(1));
 }
 template <typename V>
 void Visit(V& v, RefineConfig& c) {
   v("enabled", c.enabled);
-  v("voxel_coarse_m", c.voxel_coarse_m);
-  v("max_distance_coarse_m", c.max_distance_coarse_m);
-  v("coarse_iterations", c.coarse_iterations);
-  v("voxel_m", c.voxel_m);
-  v("max_distance_m", c.max_distance_m);
-  v("max_distance_final_m", c.max_distance_final_m);
-  v("anchor_weight_coarse", c.anchor_weight_coarse);
-  v("anchor_weight_fine", c.anchor_weight_fine);
-  v("min_kept_inlier_fraction", c.min_kept_inlier_fraction);
-  v("max_iterations", c.max_iterations);
+  v("voxel_coarse_m", c.voxel_coarse_m, Positive());
+  v("max_distance_coarse_m", c.max_distance_coarse_m, Positive());
+  v("coarse_iterations", c.coarse_iterations, AtLeast(0));
+  v("voxel_m", c.voxel_m, Positive());
+  v("max_distance_m", c.max_distance_m, Positive());
+  v("max_distance_final_m", c.max_distance_final_m, Positive());
+  v("anchor_weight_coarse", c.anchor_weight_coarse, AtLeast(0));
+  v("anchor_weight_fine", c.anchor_weight_fine, AtLeast(0));
+  v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
+  v("max_iterations", c.max_iterations, AtLeast(0));
 }
 template <typename V>
 void Visit(V& v, DetectorConfig& c) {
   v("backend", c.backend);
-  v("score_threshold", c.score_threshold);
-  v("nms_iou", c.nms_iou);
+  v("score_threshold", c.score_threshold, Fraction());
+  v("nms_iou", c.nms_iou, Between(0, 1, /*min_open=*/true));
   v("detections_dir", c.detections_dir);
+  v("max_detections", c.max_detections, AtLeast(0));
 }
 template <typename V>
 void Visit(V& v, SegmenterConfig& c) {
   v("backend", c.backend);
-  v("grabcut_iterations", c.grabcut_iterations);
-  v("working_size_px", c.working_size_px);
-  v("crop_margin_fraction", c.crop_margin_fraction);
-  v("depth_band_min_m", c.depth_band_min_m);
-  v("depth_band_relative", c.depth_band_relative);
-  v("depth_band_size_factor", c.depth_band_size_factor);
-  v("focal_length_fraction", c.focal_length_fraction);
-  v("depth_edge_radius_px", c.depth_edge_radius_px);
-  v("depth_edge_relative", c.depth_edge_relative);
-  v("erosion_px", c.erosion_px);
-  v("min_box_fraction", c.min_box_fraction);
+  v("grabcut_iterations", c.grabcut_iterations, AtLeast(1));
+  v("working_size_px", c.working_size_px, AtLeast(8));
+  v("crop_margin_fraction", c.crop_margin_fraction, AtLeast(0));
+  v("depth_band_min_m", c.depth_band_min_m, AtLeast(0));
+  v("depth_band_relative", c.depth_band_relative, AtLeast(0));
+  v("depth_band_size_factor", c.depth_band_size_factor, AtLeast(0));
+  v("focal_length_fraction", c.focal_length_fraction, Positive());
+  v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
+  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
+  v("erosion_px", c.erosion_px, AtLeast(0));
+  v("min_box_fraction", c.min_box_fraction, Fraction());
   v("masks_dir", c.masks_dir);
 }
 template <typename V>
@@ -111,40 +154,40 @@ void Visit(V& v, SemanticsConfig& c) {
 }
 template <typename V>
 void Visit(V& v, ObjectsConfig& c) {
-  v("min_views", c.min_views);
-  v("pixel_stride", c.pixel_stride);
-  v("min_points", c.min_points);
-  v("association_min_overlap", c.association_min_overlap);
-  v("association_voxel_m", c.association_voxel_m);
-  v("compatible_label_cosine", c.compatible_label_cosine);
-  v("point_voxel_m", c.point_voxel_m);
+  v("min_views", c.min_views, AtLeast(1));
+  v("pixel_stride", c.pixel_stride, AtLeast(1));
+  v("min_points", c.min_points, AtLeast(1));
+  v("association_min_overlap", c.association_min_overlap, Fraction());
+  v("association_voxel_m", c.association_voxel_m, Positive());
+  v("compatible_label_cosine", c.compatible_label_cosine, Between(-1, 1));
+  v("point_voxel_m", c.point_voxel_m, Positive());
 }
 template <typename V>
 void Visit(V& v, SceneGraphConfig& c) {
-  v("knn", c.knn);
+  v("knn", c.knn, AtLeast(1));
   v("symmetric", c.symmetric);
 }
 template <typename V>
 void Visit(V& v, ObjectMatchConfig& c) {
   v("solver", c.solver);
-  v("node_weight", c.node_weight);
+  v("node_weight", c.node_weight, AtLeast(0));
   v("match_cost", c.match_cost);
-  v("target_edge_weight", c.target_edge_weight);
+  v("target_edge_weight", c.target_edge_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
-  v("restarts", c.restarts);
-  v("iterations", c.iterations);
+  v("restarts", c.restarts, AtLeast(1));
+  v("iterations", c.iterations, AtLeast(1));
 }
 template <typename V>
 void Visit(V& v, MethodConfig& c) {
   v("object_level", c.object_level);
   v("detection", c.detection);
   v("point_level", c.point_level);
-  v("object_centroid_threshold_m", c.object_centroid_threshold_m);
+  v("object_centroid_threshold_m", c.object_centroid_threshold_m, Positive());
   v("scene_graph", c.scene_graph);
   v("clip", c.clip);
   v("label_mask_in_solve", c.label_mask_in_solve);
-  v("min_object_matches", c.min_object_matches);
-  v("min_object_correspondences", c.min_object_correspondences);
+  v("min_object_matches", c.min_object_matches, AtLeast(0));
+  v("min_object_correspondences", c.min_object_correspondences, AtLeast(0));
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
 }
 template <typename V>
@@ -170,7 +213,7 @@ class JsonWriter {
  public:
   explicit JsonWriter(json* out) : out_(out) {}
   template <typename T>
-  void operator()(const char* key, T& value) {
+  void operator()(const char* key, T& value, Range = {}) {
     (*out_)[key] = value;
   }
   void operator()(const char* key, ObjectMatchSolver& value) { (*out_)[key] = ToString(value); }
@@ -186,21 +229,49 @@ class JsonWriter {
   json* out_;
 };
 
-// Reads the keys present in a JSON object into the fields; keys no field claims are an error.
+// Reads the keys present in a JSON object into the fields, checking each value's type and range;
+// keys no field claims are an error. Messages read "<source>: <key path> ...", e.g.
+// "my.json: ransac.max_iterations is 0; expected an integer in [1, 2147483647]".
 class JsonReader {
  public:
-  JsonReader(const json& in, std::string where) : in_(in), where_(std::move(where)) {
-    if (!in_.is_object()) throw MakeInputError(where_, "expected a JSON object");
+  JsonReader(const json& in, std::string source, std::string prefix)
+      : in_(in), source_(std::move(source)), prefix_(std::move(prefix)) {
+    if (!in_.is_object()) {
+      throw MakeInputError(source_, (prefix_.empty() ? std::string("the config") : prefix_) +
+                                        " must be a JSON object, got " + Shown(in_));
+    }
   }
-  template <typename T>
-  void operator()(const char* key, T& value) {
+  void operator()(const char* key, std::string& value) {
     if (const json* j = Claim(key)) {
-      try {
-        value = j->get<T>();
-      } catch (const json::exception& e) {
-        throw MakeInputError(where_ + "." + key,
-                             std::string("wrong value type (") + e.what() + ")");
+      if (!j->is_string()) Fail(key, "is " + Shown(*j) + "; expected a string");
+      value = j->get<std::string>();
+    }
+  }
+  void operator()(const char* key, bool& value) {
+    if (const json* j = Claim(key)) {
+      if (!j->is_boolean()) Fail(key, "is " + Shown(*j) + "; expected true or false");
+      value = j->get<bool>();
+    }
+  }
+  void operator()(const char* key, double& value, Range range = {}) {
+    if (const json* j = Claim(key)) {
+      const double x = j->is_number() ? j->get<double>() : std::nan("");
+      if (!j->is_number() || !std::isfinite(x) || !range.Contains(x)) {
+        Fail(key, "is " + Shown(*j) + "; expected " + Describe(range, false));
       }
+      value = x;
+    }
+  }
+  void operator()(const char* key, int& value, Range range = {}) {
+    value = static_cast<int>(ReadInteger(key, value, range, std::numeric_limits<int>::max()));
+  }
+  void operator()(const char* key, std::uint64_t& value) {
+    if (const json* j = Claim(key)) {
+      // nlohmann stores every non-negative integer literal as unsigned.
+      if (!j->is_number_unsigned()) {
+        Fail(key, "is " + Shown(*j) + "; expected an integer in [0, 18446744073709551615]");
+      }
+      value = j->get<std::uint64_t>();
     }
   }
   void operator()(const char* key, ObjectMatchSolver& value) {
@@ -209,13 +280,13 @@ class JsonReader {
     try {
       value = ObjectMatchSolverFromString(name);
     } catch (const std::exception& e) {
-      throw MakeInputError(where_ + "." + key, e.what());
+      Fail(key, e.what());
     }
   }
   template <typename S>
   void Section(const char* key, S& section) {
     if (const json* j = Claim(key)) {
-      JsonReader reader(*j, where_ + "." + key);
+      JsonReader reader(*j, source_, Path(key));
       Visit(reader, section);
       reader.Finish();
     }
@@ -225,7 +296,8 @@ class JsonReader {
       if (!claimed_.count(it.key())) {
         std::string known;
         for (const std::string& k : claimed_) known += (known.empty() ? "" : ", ") + k;
-        throw MakeInputError(where_, "unknown key '" + it.key() + "'; known keys: " + known);
+        throw MakeInputError(source_, "unknown key '" + Path(it.key()) + "'; known keys" +
+                                          (prefix_.empty() ? "" : " of " + prefix_) + ": " + known);
       }
     }
   }
@@ -236,10 +308,51 @@ class JsonReader {
     auto it = in_.find(key);
     return it == in_.end() ? nullptr : &*it;
   }
+  std::string Path(const std::string& key) const {
+    return prefix_.empty() ? key : prefix_ + "." + key;
+  }
+  // The value as written in JSON; a string is quoted, so 1e999 given as text shows as "1e999".
+  static std::string Shown(const json& j) {
+    return j.dump(-1, ' ', false, json::error_handler_t::replace);
+  }
+  [[noreturn]] void Fail(const std::string& key, const std::string& problem) const {
+    throw MakeInputError(source_, Path(key) + " " + problem);
+  }
+  // An integer value within `range` and [0 or INT_MIN, type_max]; floats and booleans are refused.
+  long long ReadInteger(const char* key, long long current, Range range, long long type_max) {
+    const json* j = Claim(key);
+    if (j == nullptr) return current;
+    range.max = std::min(range.max, static_cast<double>(type_max));
+    range.min = std::max(range.min, -static_cast<double>(type_max) - 1);
+    const bool integer = j->is_number_integer();
+    // Compare as unsigned first, so that 4294967297 or 2^63 cannot wrap into range.
+    const bool too_big =
+        j->is_number_unsigned() && j->get<std::uint64_t>() > static_cast<std::uint64_t>(type_max);
+    const long long x = integer && !too_big ? j->get<long long>() : 0;
+    if (!integer || too_big || !range.Contains(static_cast<double>(x))) {
+      Fail(key, "is " + Shown(*j) + "; expected " + Describe(range, true));
+    }
+    return x;
+  }
+
   const json& in_;
-  std::string where_;
+  std::string source_, prefix_;
   std::set<std::string> claimed_;
 };
+
+// Checks between fields (each field's own range is checked as it is read).
+void CheckRelations(const PipelineConfig& c, const std::string& where) {
+  if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
+    throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +
+                                    ") must be below lift.max_depth_m (" +
+                                    FormatNumber(c.lift.max_depth_m) + ")");
+  }
+  if (!(c.verify.min_depth_m < c.verify.max_depth_m)) {
+    throw MakeInputError(where, "verify.min_depth_m (" + FormatNumber(c.verify.min_depth_m) +
+                                    ") must be below verify.max_depth_m (" +
+                                    FormatNumber(c.verify.max_depth_m) + ")");
+  }
+}
 
 }  // namespace
 
@@ -252,60 +365,49 @@ json ConfigToJson(const PipelineConfig& config) {
 }
 
 void ApplyConfigJson(const json& j, const std::string& where, PipelineConfig* c) {
-  JsonReader reader(j, where);
+  JsonReader reader(j, where, "");
   Visit(reader, *c);
   reader.Finish();
-  if (c->features.max_keypoints <= 0) {
-    throw MakeInputError(where + ": features.max_keypoints", "must be positive");
-  }
-  if (!(c->ransac.inlier_threshold_m > 0)) {
-    throw MakeInputError(where + ": ransac.inlier_threshold_m", "must be positive (metres)");
-  }
-  if (!(c->ransac.confidence > 0 && c->ransac.confidence < 1)) {
-    throw MakeInputError(where + ": ransac.confidence", "must be in (0, 1)");
-  }
-  if (c->scene_graph.knn < 1) throw MakeInputError(where + ": scene_graph.knn", "must be >= 1");
-  if (c->verify.pixel_stride < 1) {
-    throw MakeInputError(where + ": verify.pixel_stride", "must be >= 1 (pixels)");
-  }
-  if (!(c->verify.registration_tolerance_m > 0) || !(c->verify.depth_noise_at_1m_m >= 0) ||
-      !(c->verify.depth_noise_sigmas >= 0)) {
-    throw MakeInputError(where + ": verify",
-                         "registration_tolerance_m must be positive and the depth noise terms "
-                         "non-negative (metres)");
-  }
-  if (c->objects.pixel_stride < 1) {
-    throw MakeInputError(where + ": objects.pixel_stride", "must be >= 1 (pixels)");
-  }
+  CheckRelations(*c, where);
+}
+
+void ValidateConfig(const PipelineConfig& config, const std::string& where) {
+  // The JSON form holds every field, so reading it back applies every type and range check.
+  PipelineConfig copy;
+  ApplyConfigJson(ConfigToJson(config), where, &copy);
 }
 
 PipelineConfig ReadConfigFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MakeInputError(path, "cannot open the config file");
-  json j;
-  try {
-    j = json::parse(in);
-  } catch (const json::exception& e) {
-    throw MakeInputError(path, std::string("not valid JSON (") + e.what() + ")");
-  }
+  const json j = detail::ReadJsonFile(path, "config file");
   PipelineConfig config;
   ApplyConfigJson(j, path, &config);
   return config;
 }
 
+namespace {
+
+// The value of a --set assignment: JSON when it parses (numbers, true, [..]), else the bare word
+// as a string (features.backend=sift). A number JSON cannot hold (1e999) is an error, not a word.
+json ParseOverrideValue(const std::string& text, const std::string& where) {
+  try {
+    return json::parse(text);
+  } catch (const json::out_of_range&) {
+    throw MakeInputError(where, "'" + text + "' is out of the range of a double");
+  } catch (const json::exception&) {
+    return text;
+  }
+}
+
+}  // namespace
+
 void ApplyConfigOverride(const std::string& assignment, PipelineConfig* config) {
+  const std::string where = "--set " + assignment;
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw MakeInputError("--set " + assignment, "expected section.key=value, e.g. ransac.seed=1");
+    throw MakeInputError(where, "expected section.key=value, e.g. ransac.inlier_threshold_m=0.03");
   }
-  const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  json value;
-  try {
-    value = json::parse(text);
-  } catch (const json::exception&) {
-    value = text;  // bare words are strings: features.backend=sift
-  }
-  json patch = value;
+  const std::string key = assignment.substr(0, eq);
+  json patch = ParseOverrideValue(assignment.substr(eq + 1), where);
   // Build {"a": {"b": value}} from "a.b".
   std::vector<std::string> parts;
   for (size_t start = 0;;) {
@@ -315,7 +417,7 @@ void ApplyConfigOverride(const std::string& assignment, PipelineConfig* config) 
     start = dot + 1;
   }
   for (auto it = parts.rbegin(); it != parts.rend(); ++it) patch = json{{*it, patch}};
-  ApplyConfigJson(patch, "--set " + assignment, config);
+  ApplyConfigJson(patch, where, config);
 }
 
 json TransformToJson(const Transform& T) {

@@ -121,13 +121,15 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
     // depth regions that come with their masks.
     std::vector<ObjectObservation> found;
     if (config_.method.detection) {
-      const std::vector<Detection> detections = detector_.Detect(view.color, view.name);
+      // The file backends key their files by this name's stem: the image file, when known.
+      const std::string& image_name = view.color_file.empty() ? view.name : view.color_file;
+      const std::vector<Detection> detections = detector_.Detect(view.color, image_name);
       timer.Mark("detect");
       for (size_t d = 0; d < detections.size(); ++d) {
         ObjectObservation o;
         o.detection = detections[d];
         o.mask = segmenter_.Segment(view.color, view.depth, detections[d], static_cast<int>(d),
-                                    view.name);
+                                    image_name);
         found.push_back(std::move(o));
       }
       timer.Mark("segment");

@@ -16,6 +16,7 @@
 #include "verify/verify.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
+#include "zeroreg/json.hpp"
 
 namespace zeroreg {
 namespace {
@@ -280,6 +281,7 @@ struct Pipeline::Impl {
 };
 
 Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>()) {
+  ValidateConfig(config, "config");
   impl_->config = config;
   const std::string assets =
       NeedsAssets(config) ? ResolveAssetsDir(config.assets_dir) : config.assets_dir;

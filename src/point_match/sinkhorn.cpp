@@ -29,15 +29,15 @@ Eigen::VectorXd RowLogSumExp(const Eigen::MatrixXd& m) {
 
 Eigen::MatrixXd SinkhornLogAssignment(const Eigen::MatrixXd& scores, const SinkhornConfig& config) {
   if (!(config.temperature > 0.0) || !std::isfinite(config.temperature)) {
-    throw MakeInputError("SinkhornConfig.temperature",
+    throw MakeInputError("match.sinkhorn.temperature",
                          "is " + std::to_string(config.temperature) + ", expected > 0");
   }
   if (config.iterations < 0) {
-    throw MakeInputError("SinkhornConfig.iterations",
+    throw MakeInputError("match.sinkhorn.iterations",
                          "is " + std::to_string(config.iterations) + ", expected >= 0");
   }
   if (!std::isfinite(config.dustbin_score)) {
-    throw MakeInputError("SinkhornConfig.dustbin_score", "is not finite");
+    throw MakeInputError("match.sinkhorn.dustbin_score", "is not finite");
   }
   if (!scores.allFinite()) throw MakeInputError("Sinkhorn scores", "contain NaN or infinity");
 

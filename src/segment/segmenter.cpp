@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "io/image_file.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -61,17 +62,11 @@ class FileSegmenter : public Segmenter {
                   const std::string& image_name) override {
     RequireInputs(bgr, depth_m, image_name);
     const std::string path = detail::MaskFilePath(masks_dir_, image_name, index);
-    if (!std::ifstream(path, std::ios::binary)) {
-      throw MakeInputError(path, "cannot open mask " + std::to_string(index) + " of image '" +
-                                     image_name +
-                                     "' (expected <masks_dir>/<image stem>_<index>.png)");
-    }
-    cv::Mat raw;
-    try {
-      raw = cv::imread(path, cv::IMREAD_UNCHANGED);
-    } catch (const cv::Exception& e) {
-      throw MakeInputError(path, std::string("cannot decode mask image: ") + e.what());
-    }
+    const cv::Mat raw =
+        detail::ReadImageFile(path,
+                              "mask " + std::to_string(index) + " of image '" + image_name +
+                                  "' (expected <masks_dir>/<image stem>_<index>.png)",
+                              cv::IMREAD_UNCHANGED);
     if (raw.empty()) {
       throw MakeInputError(path, "cannot decode mask image (expected an 8-bit single-channel PNG)");
     }

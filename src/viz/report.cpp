@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "eval/records.hpp"
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -453,7 +454,7 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   rows.push_back(
       {"inlier spread (2nd axis)", Format("%.1f cm", 100 * NumberOr(r, "inlier_spread_m", 0))});
   rows.push_back({"RANSAC iterations", Format("%.0f", NumberOr(counts, "ransac_iterations", 0))});
-  if (doc.contains("seed")) rows.push_back({"seed", HtmlEscape(doc["seed"].dump())});
+  if (doc.contains("seed")) rows.push_back({"seed", HtmlEscape(detail::DumpJson(doc["seed"]))});
   h << KeyValueTable(rows);
 
   // The pair as a one-row table, shaped like an eval folder's pairs table.
@@ -561,7 +562,7 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   }
   if (doc.contains("config")) {
     h << "<h2>Config</h2>\n<details><summary>effective pipeline config (JSON)</summary><pre>"
-      << HtmlEscape(doc["config"].dump(2)) << "</pre></details>\n";
+      << HtmlEscape(detail::DumpJson(doc["config"], 2)) << "</pre></details>\n";
   }
   h << PageEnd();
   return h.str();
@@ -593,7 +594,7 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
     h << MarkdownToHtml(md);
   } else if (summary.contains("benchmarks")) {
     h << "<p class=\"note\">No summary.md; the benchmarks of summary.json follow.</p>\n<pre>"
-      << HtmlEscape(summary["benchmarks"].dump(2)) << "</pre>\n";
+      << HtmlEscape(detail::DumpJson(summary["benchmarks"], 2)) << "</pre>\n";
   } else {
     h << "<p class=\"note\">No summary.md or summary.json in the folder (run <code>zeroreg "
          "eval</code> to completion, or <code>zeroreg eval merge</code>).</p>\n";
@@ -709,7 +710,7 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
   }
   if (summary.contains("settings")) {
     h << "<details><summary>settings (summary.json)</summary><pre>"
-      << HtmlEscape(summary["settings"].dump(2)) << "</pre></details>\n";
+      << HtmlEscape(detail::DumpJson(summary["settings"], 2)) << "</pre></details>\n";
   }
   h << PageEnd();
   return h.str();
@@ -818,8 +819,16 @@ ResultsKind DetectResultsKind(const std::string& dir) {
 }
 
 std::string BuildReportHtml(const std::string& dir, const ReportConfig& config) {
-  return DetectResultsKind(dir) == ResultsKind::kRegister ? RegisterReport(dir, config)
-                                                          : EvalReport(dir, config);
+  const ResultsKind kind = DetectResultsKind(dir);
+  try {
+    return kind == ResultsKind::kRegister ? RegisterReport(dir, config) : EvalReport(dir, config);
+  } catch (const json::exception& e) {
+    // The pages read the files zeroreg wrote; a value of another type means the file was edited
+    // or comes from another tool.
+    throw MakeInputError(dir, std::string("a results file in this folder has a value of an "
+                                          "unexpected type (edited by hand?): ") +
+                                  e.what());
+  }
 }
 
 void WriteReport(const std::string& dir, const std::string& out_path, const ReportConfig& config) {

@@ -62,24 +62,27 @@ TEST_F(AssetsResolve, ExplicitDirectoryComesFirst) {
 
 TEST_F(AssetsResolve, EnvironmentComesSecond) {
   EXPECT_EQ(detail::ResolveAssetsDirFrom("", env_dir_, repo_), env_dir_);
-  // An explicit folder that does not exist falls through to the next candidate.
-  EXPECT_EQ(detail::ResolveAssetsDirFrom(missing_, env_dir_, repo_), env_dir_);
+}
+
+TEST_F(AssetsResolve, ExplicitDirectoryThatDoesNotExistIsAnError) {
+  // Issue 15: it used to fall through to $ZEROREG_ASSETS or <repo>/assets silently.
+  const std::string message =
+      InputErrorMessage([&] { detail::ResolveAssetsDirFrom(missing_, env_dir_, repo_); });
+  EXPECT_TRUE(Contains(message, missing_ + ": assets folder (--assets")) << message;
 }
 
 TEST_F(AssetsResolve, RepoAssetsComeLast) {
   EXPECT_EQ(detail::ResolveAssetsDirFrom("", "", repo_), repo_ + "/assets");
-  EXPECT_EQ(detail::ResolveAssetsDirFrom(missing_, missing_ + "2", repo_), repo_ + "/assets");
+  EXPECT_EQ(detail::ResolveAssetsDirFrom("", missing_ + "2", repo_), repo_ + "/assets");
 }
 
 TEST_F(AssetsResolve, NothingFoundListsEveryPlaceAndTheFix) {
   const std::string message = InputErrorMessage(
-      [&] { detail::ResolveAssetsDirFrom(missing_ + "_a", missing_ + "_b", missing_ + "_repo"); });
-  EXPECT_TRUE(Contains(message, missing_ + "_a (explicit")) << message;
+      [&] { detail::ResolveAssetsDirFrom("", missing_ + "_b", missing_ + "_repo"); });
   EXPECT_TRUE(Contains(message, missing_ + "_b (environment variable ZEROREG_ASSETS")) << message;
   EXPECT_TRUE(Contains(message, missing_ + "_repo/assets (repository default")) << message;
   EXPECT_TRUE(Contains(message, "bash scripts/fetch-assets.sh")) << message;
-  // The explicit folder is listed before the environment, the environment before the repo.
-  EXPECT_LT(message.find(missing_ + "_a"), message.find(missing_ + "_b")) << message;
+  // The environment is listed before the repo.
   EXPECT_LT(message.find(missing_ + "_b"), message.find(missing_ + "_repo")) << message;
 
   const std::string unset =

@@ -177,7 +177,7 @@ TEST_F(EvalRunner, TwoJobsGiveTheRecordsOfOneJob) {
 TEST_F(EvalRunner, MergedShardsGiveTheSummaryOfASingleRun) {
   const std::vector<PairTask> tasks = Tasks(10);
   const std::string single = (dir_ / "single").string();
-  PrepareOutDir(single, Info(tasks));
+  static_cast<void>(PrepareOutDir(single, Info(tasks)));  // lock released at once
   const EvalSummary expected = WriteSummary(single, Info(tasks), tasks, Run(tasks, "single"));
 
   std::vector<std::string> shard_dirs;
@@ -185,7 +185,8 @@ TEST_F(EvalRunner, MergedShardsGiveTheSummaryOfASingleRun) {
     const std::string shard = std::to_string(i) + "/3";
     const std::string out = "shard-" + std::to_string(i);
     const std::vector<PairTask> mine = ApplyShard(tasks, ParseShard(shard));
-    PrepareOutDir((dir_ / out).string(), Info(tasks, shard));
+    static_cast<void>(
+        PrepareOutDir((dir_ / out).string(), Info(tasks, shard)));  // lock released at once
     WriteSummary((dir_ / out).string(), Info(tasks, shard), mine, Run(mine, out));
     shard_dirs.push_back((dir_ / out).string());
   }
@@ -213,8 +214,8 @@ TEST_F(EvalRunner, MergedShardsGiveTheSummaryOfASingleRun) {
 TEST_F(EvalRunner, ResultsFolderRefusesAnotherMethodOrConfig) {
   const std::vector<PairTask> tasks = Tasks(2);
   const std::string out = (dir_ / "r").string();
-  PrepareOutDir(out, Info(tasks));
-  PrepareOutDir(out, Info(Tasks(1)));  // another selection of the same run: fine
+  static_cast<void>(PrepareOutDir(out, Info(tasks)));     // lock released at once
+  static_cast<void>(PrepareOutDir(out, Info(Tasks(1))));  // another selection: fine
   RunInfo other = Info(tasks);
   other.settings["pipeline"]["seed"] = 1;
   EXPECT_THROW(PrepareOutDir(out, other), InputError);
@@ -223,7 +224,7 @@ TEST_F(EvalRunner, ResultsFolderRefusesAnotherMethodOrConfig) {
   EXPECT_THROW(PrepareOutDir(out, other), InputError);
   // Shards of different selections cannot be merged.
   const std::string out2 = (dir_ / "r2").string();
-  PrepareOutDir(out2, Info(Tasks(2)));
+  static_cast<void>(PrepareOutDir(out2, Info(Tasks(2))));  // lock released at once
   EXPECT_THROW(MergeRuns({out, out2}, (dir_ / "m").string()), InputError);
 }
 

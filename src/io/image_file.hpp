@@ -1,0 +1,33 @@
+// Internal helper of src/io: reading an image file safely. The header is checked before OpenCV
+// decodes anything, so a small file that declares a huge image is refused before it allocates
+// gigabytes, and a JPEG or PNG cut short is refused instead of decoding to a partly grey image
+// (libjpeg only prints "Premature end of JPEG file").
+#pragma once
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace zeroreg::detail {
+
+// Largest image, in pixels, that is decoded: $ZEROREG_MAX_IMAGE_PIXELS when set (a number > 0),
+// else 100 million (10000 x 10000; RGB-D cameras give at most a few million).
+std::uint64_t MaxImagePixels();
+
+// What the header of an in-memory image file says. `known` is false for formats other than PNG
+// and JPEG, whose size is then checked after decoding.
+struct ImageHeader {
+  bool known = false;
+  std::uint64_t width = 0, height = 0;
+  bool complete = true;  // PNG: IEND chunk present; JPEG: end-of-image marker reached
+  std::string format;    // "PNG", "JPEG" or ""
+};
+ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes);
+
+// Reads `path` (a regular file; `what` names it in messages, e.g. "colour image"), checks the
+// header (size within MaxImagePixels, file complete) and decodes it with cv::imdecode(`flags`).
+// Throws InputError naming the file. Returns an empty Mat when OpenCV cannot decode it.
+cv::Mat ReadImageFile(const std::string& path, const std::string& what, int flags);
+
+}  // namespace zeroreg::detail
