@@ -1,10 +1,10 @@
 // Paths the tests use: the repo (from CMake), ../shared beside it, and the CLI binary.
 #pragma once
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <string>
-#include <sys/wait.h>
 
 namespace zeroreg::testing {
 
@@ -18,15 +18,20 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `zeroreg <arguments>` through the shell and captures its output and exit code.
-inline CommandResult RunCli(const std::string& arguments) {
+// Runs `zeroreg <arguments>` through the shell and captures its output and exit code. With
+// timeout_seconds > 0 the command is killed after that long (exit code 124), so a test of
+// something that used to hang fails instead of hanging.
+inline CommandResult RunCli(const std::string& arguments, int timeout_seconds = 0) {
   CommandResult result;
-  const std::string command = "'" + CliPath() + "' " + arguments + " 2>&1";
+  const std::string limit =
+      timeout_seconds > 0 ? "timeout " + std::to_string(timeout_seconds) + " " : "";
+  const std::string command = limit + "'" + CliPath() + "' " + arguments + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
   std::array<char, 4096> buffer{};
   size_t n = 0;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), n);
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0)
+    result.output.append(buffer.data(), n);
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;

@@ -313,7 +313,11 @@ class JsonReader {
   }
   // The value as written in JSON; a string is quoted, so 1e999 given as text shows as "1e999".
   static std::string Shown(const json& j) {
-    return j.dump(-1, ' ', false, json::error_handler_t::replace);
+    if (j.is_number_float() && !std::isfinite(j.get<double>())) {  // dump() would say null
+      const double x = j.get<double>();
+      return std::isnan(x) ? "NaN" : (x > 0 ? "inf" : "-inf");
+    }
+    return detail::DumpJson(j);
   }
   [[noreturn]] void Fail(const std::string& key, const std::string& problem) const {
     throw MakeInputError(source_, Path(key) + " " + problem);

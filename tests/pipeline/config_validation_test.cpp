@@ -1,0 +1,68 @@
+// Issue 15: every config value is type- and range-checked where it enters (JSON files, --set,
+// Python dicts, configs built in C++), with messages that name the source and the key path.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "zeroreg/error.hpp"
+#include "zeroreg/json.hpp"
+#include "zeroreg/register.hpp"
+
+namespace zeroreg {
+namespace {
+
+std::string MessageOf(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no InputError)";
+}
+
+TEST(ConfigValidation, DefaultsAreAccepted) {
+  EXPECT_NO_THROW(ValidateConfig(PipelineConfig(), "defaults"));
+  PipelineConfig round_trip;
+  EXPECT_NO_THROW(ApplyConfigJson(ConfigToJson(PipelineConfig()), "defaults", &round_trip));
+  EXPECT_EQ(ConfigToJson(round_trip), ConfigToJson(PipelineConfig()));
+}
+
+TEST(ConfigValidation, NanAndInfinityAreRefused) {
+  // A Python dict can hold NaN; it used to switch the verdict's thresholds off.
+  for (double bad : {std::nan(""), std::numeric_limits<double>::infinity()}) {
+    PipelineConfig c;
+    const nlohmann::json j = {{"ransac", {{"min_inlier_spread_m", bad}}}};
+    const std::string m = MessageOf([&] { ApplyConfigJson(j, "config", &c); });
+    EXPECT_NE(m.find("config: ransac.min_inlier_spread_m is"), std::string::npos) << m;
+  }
+}
+
+TEST(ConfigValidation, ConfigsBuiltInCodeAreCheckedByThePipeline) {
+  PipelineConfig c;
+  c.ransac.min_inlier_ratio = std::nan("");
+  const std::string m = MessageOf([&] { Pipeline p(c); });
+  EXPECT_NE(m.find("ransac.min_inlier_ratio"), std::string::npos) << m;
+  c = PipelineConfig();
+  c.match.sinkhorn.temperature = 0;
+  const std::string t = MessageOf([&] { Pipeline p(c); });
+  EXPECT_NE(t.find("match.sinkhorn.temperature is 0"), std::string::npos) << t;
+}
+
+TEST(ConfigValidation, IntegersAreExact) {
+  PipelineConfig c;
+  for (const char* text : {"4294967297", "true", "2.7", "-1", "\"5\""}) {
+    const nlohmann::json j = {{"ransac", {{"max_iterations", nlohmann::json::parse(text)}}}};
+    const std::string m = MessageOf([&] { ApplyConfigJson(j, "f.json", &c); });
+    EXPECT_NE(m.find("f.json: ransac.max_iterations is"), std::string::npos) << text << ": " << m;
+  }
+  EXPECT_EQ(c.ransac.max_iterations, PipelineConfig().ransac.max_iterations);
+  const std::string seed = MessageOf([&] { ApplyConfigOverride("seed=-3", &c); });
+  EXPECT_NE(seed.find("--set seed=-3: seed is -3"), std::string::npos) << seed;
+  ApplyConfigOverride("seed=18446744073709551615", &c);
+  EXPECT_EQ(c.seed, 18446744073709551615ull);
+}
+
+}  // namespace
+}  // namespace zeroreg
