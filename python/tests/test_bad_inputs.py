@@ -209,14 +209,14 @@ def test_input_error_from_cpp_is_a_value_error(sift_pipeline):
 @pytest.mark.parametrize(
     "config,seed,parts",
     [
-        ({"features": {"max_kp": 10}}, None, ["config", "features", "unknown key 'max_kp'"]),
+        ({"features": {"max_kp": 10}}, None, ["config", "unknown key 'features.max_kp'"]),
         ({"ransac": {"inlier_threshold_m": "5cm"}}, None,
-         ["config", "ransac", "inlier_threshold_m", "wrong value type"]),
+         ["config", "ransac.inlier_threshold_m is \"5cm\"", "expected a number > 0"]),
         ({"ransac": {"confidence": 1.5}}, None, ["config", "ransac", "confidence", "(0, 1)"]),
         ({"features": {"backend": object()}}, None,
          ["config.features.backend: cannot use a value of type object"]),
         (42, None, ["config: expected None, a dict or the path of a JSON config file"]),
-        ("no/such/config.json", None, ["no/such/config.json: cannot open the config file"]),
+        ("no/such/config.json", None, ["no/such/config.json: config file not found"]),
         (None, -1, ["seed: -1 is not a non-negative 64-bit integer"]),
         (None, 1.5, ["seed: expected a non-negative int or None"]),
     ],

@@ -34,7 +34,10 @@ Range Open(double min, double max) { return {min, max, true, true}; }
 Range Fraction() { return {0, 1, false, false}; }
 
 std::string FormatNumber(double x) {
+  // Whole numbers in full (2147483647, not 2.14748e+09), others with enough digits.
+  if (x == std::floor(x) && std::abs(x) < 1e18) return std::to_string(static_cast<long long>(x));
   std::ostringstream s;
+  s.precision(10);
   s << x;
   return s.str();
 }

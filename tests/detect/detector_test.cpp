@@ -177,7 +177,7 @@ TEST_F(DetectFile, ErrorsNameTheFile) {
   const std::string file = dir_.str() + "/frame-000007.color.json";
   ExpectInputError([&] { MakeDetector(config_, {})->Detect(image_, "frame-000008.color.jpg"); },
                    {dir_.str() + "/frame-000008.color.json"});
-  ExpectInputError([&] { Run("{\"detections\": [ "); }, {file, "malformed JSON"});
+  ExpectInputError([&] { Run("{\"detections\": [ "); }, {file, "not valid JSON"});
   ExpectInputError([&] { Run("{\"dets\": []}"); }, {file, "detections"});
   ExpectInputError([&] { Run(R"({"detections": [{"label": "cup"}]})"); }, {file, "box"});
   ExpectInputError([&] { Run(R"({"detections": [{"box": [1, 1, 5, 5]}]})"); }, {file, "label"});

@@ -43,7 +43,7 @@ TEST(IoBadInput, CorruptDepthImage) {
   TempDir dir;
   WriteText(dir.File("broken.png"), "\x89PNG\r\n\x1a\n truncated");
   ExpectInputError([&] { ReadDepthImage(dir.File("broken.png"), 1000); },
-                   {"broken.png", "cannot be decoded"});
+                   {"broken.png", "truncated PNG"});
 }
 
 TEST(IoBadInput, ColourDepthSizeMismatch) {

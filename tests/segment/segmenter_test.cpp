@@ -335,7 +335,7 @@ TEST_F(SegmenterFile, GoodFileLoads) {
 }
 
 TEST_F(SegmenterFile, MissingFileNamed) {
-  ExpectInputError([&] { Run(4); }, {"frame-000003.color_4.png", "cannot open"});
+  ExpectInputError([&] { Run(4); }, {"frame-000003.color_4.png", "not found"});
 }
 
 TEST_F(SegmenterFile, UnreadableFileNamed) {
