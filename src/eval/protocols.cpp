@@ -114,7 +114,8 @@ std::vector<std::pair<int, int>> ReadPairsFile(const std::string& path) {
 std::vector<PairTask> FilterPairs(const std::vector<PairTask>& tasks,
                                   const std::vector<std::pair<int, int>>& pairs,
                                   const std::string& where) {
-  for (const auto& [i, j] : pairs) {
+  for (const std::pair<int, int>& pair : pairs) {
+    const int i = pair.first, j = pair.second;  // C++17 lambdas cannot capture bindings (clang)
     const bool found = std::any_of(tasks.begin(), tasks.end(), [&](const PairTask& t) {
       return t.target_id == i && t.source_id == j;
     });
