@@ -233,6 +233,11 @@ struct RefineConfig {
   // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict").
   double min_kept_inlier_fraction = 0.5;
   double anchor_weight_fine = 0.0;
+  // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
+  // at every iterate (a Gaussian maximum-likelihood fit of both), instead of the fixed shares
+  // above; anchor_weight_coarse / _fine then scale that weight and 0 still switches a stage's
+  // anchors off.
+  bool anchor_inverse_variance = false;
   // No movement guard: with verification on, the refined transform is kept only when the
   // geometric check scores it at least as well as the estimate it started from.
 };

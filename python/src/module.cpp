@@ -23,6 +23,8 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "estimate/icp.hpp"
+#include "estimate/lift.hpp"
 #include "eval/metrics.hpp"
 #include "io/image_file.hpp"
 #include "zeroreg/error.hpp"
@@ -879,6 +881,35 @@ PYBIND11_MODULE(_zeroreg, m) {
       "Geometric check of T_target_source: each scan's depth rendered into the other's views. "
       "Returns a dict (passed, reason, overlap, violation, residual_rms_m, score, "
       "probe_contradicted, degenerate, ...).");
+
+  // The pipeline's ICP refinement (config "refine") from any initial transform, e.g. odometry or a
+  // transform from elsewhere, without correspondences to anchor it (src/estimate/icp.hpp).
+  m.def(
+      "refine",
+      [](const py::handle& source, const py::handle& target, const py::object& T,
+         const py::object& config) {
+        const Scan s = ScanFromPython(source, "source");
+        const Scan t = ScanFromPython(target, "target");
+        const Transform initial = RequireRigid(T, "T_target_source");
+        const PipelineConfig c = ConfigFromPython(config, py::none());
+        IcpResult icp;
+        {
+          py::gil_scoped_release release;
+          // Every other depth pixel, as the pipeline's refinement step.
+          icp = RefinePointToPlane(ScanPoints(s, /*stride=*/2), ScanPoints(t, /*stride=*/2),
+                                   initial, IcpSchedule(c.refine));
+        }
+        py::dict out;
+        out["T_target_source"] = MatrixToNumpy(icp.T_target_source);
+        out["fitness"] = icp.fitness;
+        out["rmse_m"] = icp.rmse;
+        out["iterations"] = icp.iterations;
+        return out;
+      },
+      py::arg("source"), py::arg("target"), py::arg("T_target_source"),
+      py::arg("config") = py::none(),
+      "Coarse-to-fine point-to-plane ICP (config 'refine') from T_target_source. Returns a dict "
+      "(T_target_source, fitness, rmse_m, iterations).");
 
   m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
 }

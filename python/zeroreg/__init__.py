@@ -28,6 +28,7 @@ from ._zeroreg import (
     rotation_error_deg,
     translation_error_m,
 )
+from ._zeroreg import refine as _refine
 from ._zeroreg import verify as _verify
 
 __all__ = [
@@ -39,6 +40,7 @@ __all__ = [
     "load_scan",
     "read_color",
     "read_depth",
+    "refine",
     "register",
     "rotation_error_deg",
     "translation_error_m",
@@ -153,6 +155,24 @@ def register(
 ) -> Result:
     """One-call registration: Pipeline(config, seed).register(source, target)."""
     return Pipeline(config, seed).register(source, target)
+
+
+def refine(
+    source: ScanLike,
+    target: ScanLike,
+    T_target_source: Any,
+    config: Union[None, dict, str] = None,
+) -> dict:
+    """The pipeline's ICP refinement (config "refine", docs/CONFIG.md) from any initial transform.
+
+    Coarse-to-fine point-to-plane ICP on every other depth pixel of both scans, starting from
+    T_target_source (4x4, e.g. odometry). Nothing anchors it and nothing checks it: pass the result
+    to verify() before trusting it. Returns a dict: T_target_source (4x4 array), fitness (fraction
+    of source points with a target point within the last stage's gate), rmse_m, iterations.
+    """
+    return _refine(
+        _native(source, "source"), _native(target, "target"), np.asarray(T_target_source), config
+    )
 
 
 def verify(

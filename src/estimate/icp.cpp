@@ -29,7 +29,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int matched = 0;
-    double sum_sq = 0;
+    double sum_sq = 0, sum_plane_sq = 0;
     for (const Eigen::Vector3d& s : source) {
       const Eigen::Vector3d p = (*T * s.homogeneous()).head<3>();
       if (tree.SearchKNN(p, 1, index, distance_sq) < 1 || distance_sq[0] > gate_sq) continue;
@@ -40,6 +40,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       const double r = n.dot(p - q);
       JtJ += J * J.transpose();
       Jtr += J * r;
+      sum_plane_sq += r * r;
       ++matched;
       sum_sq += distance_sq[0];
     }
@@ -50,6 +51,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
     Eigen::Matrix<double, 6, 6> anchor_JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> anchor_Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int anchored = 0;
+    double anchor_sum_sq = 0;
     for (size_t k = 0; stage.anchor_weight > 0 && k < anchors.source.size(); ++k) {
       const Eigen::Vector3d p = (*T * anchors.source[k].homogeneous()).head<3>();
       const Eigen::Vector3d r = p - anchors.target[k];
@@ -58,10 +60,20 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       J << -SkewSymmetric(p), Eigen::Matrix3d::Identity();
       anchor_JtJ += J.transpose() * J;
       anchor_Jtr += J.transpose() * r;
+      anchor_sum_sq += r.squaredNorm();
       ++anchored;
     }
     if (anchored > 0) {
-      const double w = stage.anchor_weight * std::max(1, matched) / (3.0 * anchored);
+      double w = stage.anchor_weight * std::max(1, matched) / (3.0 * anchored);
+      if (stage.inverse_variance) {
+        // Per-residual variances of the two kinds at this iterate, floored at (1 mm)^2, the
+        // depth quantisation near the camera, so a perfect fit of either does not take over.
+        constexpr double kMinVariance = 1e-6;
+        const double plane_variance =
+            std::max(kMinVariance, matched > 0 ? sum_plane_sq / matched : kMinVariance);
+        const double anchor_variance = std::max(kMinVariance, anchor_sum_sq / (3.0 * anchored));
+        w = stage.anchor_weight * plane_variance / anchor_variance;
+      }
       JtJ += w * anchor_JtJ;
       Jtr += w * anchor_Jtr;
     }
@@ -87,11 +99,13 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
 }  // namespace
 
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
-  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
-           config.anchor_weight_coarse},
-          {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine},
-          {config.voxel_m, config.max_distance_final_m, config.max_iterations,
-           config.anchor_weight_fine}};
+  const bool iv = config.anchor_inverse_variance;
+  return {
+      {config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
+       config.anchor_weight_coarse, iv},
+      {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine, iv},
+      {config.voxel_m, config.max_distance_final_m, config.max_iterations,
+       config.anchor_weight_fine, iv}};
 }
 
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,

@@ -28,6 +28,8 @@ struct IcpStage {
   // Total weight of the IcpAnchors in this stage's gate relative to all its closest-point pairs
   // (0 = not used).
   double anchor_weight = 0.0;
+  // anchor_weight scales the inverse-variance weight (RefineConfig::anchor_inverse_variance).
+  bool inverse_variance = false;
 };
 
 // Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair

@@ -124,6 +124,7 @@ void Visit(V& v, RefineConfig& c) {
   v("max_distance_final_m", c.max_distance_final_m, Positive());
   v("anchor_weight_coarse", c.anchor_weight_coarse, AtLeast(0));
   v("anchor_weight_fine", c.anchor_weight_fine, AtLeast(0));
+  v("anchor_inverse_variance", c.anchor_inverse_variance);
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
   v("max_iterations", c.max_iterations, AtLeast(0));
 }

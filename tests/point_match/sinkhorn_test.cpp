@@ -170,5 +170,36 @@ TEST(Sinkhorn, RejectsBadInput) {
       MatchSinkhorn(Eigen::MatrixXf(g.cast<float>()), Eigen::MatrixXf(g.cast<float>())).size(), 3u);
 }
 
+// The single-precision path taken for float descriptors (whole images) gives the matches of the
+// double-precision log-domain path: the same pairs, probabilities within float rounding. Half the
+// target points are noisy copies of source points, as in a real overlap.
+TEST(Sinkhorn, SinglePrecisionPathMatchesDoublePrecision) {
+  const int n = 300, m = 260;
+  Eigen::MatrixXd gp = RandomUnitRows(n, 64, 11), gq = RandomUnitRows(m, 64, 12);
+  for (int k = 0; k < m / 2; ++k) gq.row(k) = (gp.row(2 * k) + 0.4 * gq.row(k)).normalized();
+  for (const double temperature : {0.03, 0.1}) {
+    SinkhornConfig cfg;
+    cfg.temperature = temperature;
+    Eigen::MatrixXd log_p;  // asking for log P forces the double path
+    const std::vector<SinkhornMatch> exact = MatchSinkhorn(gp, gq, cfg, &log_p);
+    const std::vector<SinkhornMatch> single =
+        MatchSinkhorn(Eigen::MatrixXf(gp.cast<float>()), Eigen::MatrixXf(gq.cast<float>()), cfg);
+    ASSERT_GT(exact.size(), 100u);
+    ASSERT_EQ(single.size(), exact.size()) << "T " << temperature;
+    for (size_t k = 0; k < exact.size(); ++k) {
+      EXPECT_EQ(single[k].source, exact[k].source);
+      EXPECT_EQ(single[k].target, exact[k].target);
+      EXPECT_NEAR(single[k].probability, exact[k].probability, 1e-4);
+    }
+  }
+  // Logits spanning more than float's exponent range take the double path: still finite matches.
+  SinkhornConfig sharp;
+  sharp.temperature = 0.01;  // cosines in [-1, 1] span 200 logits
+  EXPECT_EQ(
+      MatchSinkhorn(Eigen::MatrixXf(gp.cast<float>()), Eigen::MatrixXf(gq.cast<float>()), sharp)
+          .size(),
+      MatchSinkhorn(gp, gq, sharp).size());
+}
+
 }  // namespace
 }  // namespace zeroreg
