@@ -25,6 +25,10 @@ def test_installed_metadata_has_the_same_version():
         assert os.environ.get("ZEROREG_PYTHONPATH"), "zeroreg imported but not installed"
         return
     assert installed == zeroreg.__version__
+    # The wheel credits the models it ships (their LICENSE files are installed beside them).
+    metadata = importlib.metadata.metadata("zeroreg")
+    assert "Apache-2.0" in metadata["License"]
+    assert "## Models and data (credits and licenses)" in metadata.get_payload()
 
 
 def test_result_json_names_the_version(result_20_0_from_paths):
