@@ -88,7 +88,8 @@ void AddConfigOptions(CLI::App& app, ConfigOptions* o) {
   app.add_option("--seed", o->seed, "random seed, an integer >= 0 (default 0)");
   app.add_option("--features", o->features, "feature backend: xfeat (default) or sift");
   app.add_option("--assets", o->assets,
-                 "model folder, must exist (default: $ZEROREG_ASSETS, then <repo>/assets)");
+                 "model folder, must exist (default: $ZEROREG_ASSETS, then <repo>/assets, then "
+                 "the installed share/zeroreg/assets; docs/INSTALL.md)");
 }
 
 PipelineConfig BuildConfig(const ConfigOptions& o) {

@@ -1,10 +1,11 @@
 // zeroreg: zero-shot registration of RGB-D scans (ZeroReg, CVPR 2025).
+#include <open3d/utility/Logging.h>
 #include <iostream>
 #include <map>
-#include <open3d/utility/Logging.h>
 
 #include "commands.hpp"
 #include "zeroreg/error.hpp"
+#include "zeroreg/version.hpp"
 
 int main(int argc, char** argv) {
   using namespace zeroreg::cli;
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   // and make stdout differ from run to run. Errors still show.
   open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   CLI::App app{"zeroreg: register two RGB-D scans with 2D foundation models, no 3D training"};
+  app.set_version_flag("--version", "zeroreg " ZEROREG_VERSION);
   app.require_subcommand(1);
   std::map<CLI::App*, Runner> runners;
   auto add = [&](const char* name, Runner (*adder)(CLI::App&), const char* help) {

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The project's test command (README): install/build, fetch and verify the models, run the
-# C++ tests and, when the Python bindings have tests, those too.
+# C++ tests, then install the library and the Python package the way users do and run the
+# Python tests and the bit-for-bit comparison against them (scripts/check-install.sh).
 #
 #   bash scripts/test.sh
 set -euo pipefail
@@ -13,8 +14,4 @@ bash scripts/setup.sh
 bash scripts/fetch-assets.sh
 ctest --test-dir "$build_dir" --output-on-failure -j2
 
-if [[ -d python/tests ]]; then
-  ZEROREG_PYTHONPATH="$build_dir/python" /usr/bin/python3 -m pytest -q python/tests
-else
-  echo "test: no python/tests folder, skipping the Python tests"
-fi
+bash scripts/check-install.sh

@@ -1,9 +1,13 @@
 // Locating and verifying model files (DESIGN §5).
 //
 // Lookup order for the assets folder: explicit directory (config / --assets), then the
-// ZEROREG_ASSETS environment variable, then <repo>/assets. An explicit directory that does not
-// exist is an error (no fall-back to the others). Every model file is checked against
-// the sha256 list kept in the repo (scripts/assets.sha256) before it is loaded.
+// ZEROREG_ASSETS environment variable, then <repo>/assets (the source tree the library was built
+// from), then the installed share folder: P/share/zeroreg/assets for the nearest ancestor P of
+// the running binary's folder that has one (the installed CLI in P/bin, the Python module in a
+// venv or P/lib/pythonX.Y/site-packages), then <CMAKE_INSTALL_PREFIX>/share/zeroreg/assets of
+// the build. An explicit directory that does not exist is an error (no fall-back to the
+// others). Every model file is checked against the sha256 list kept in the repo
+// (scripts/assets.sha256, or the copy installed beside the models) before it is loaded.
 #pragma once
 
 #include <string>

@@ -349,7 +349,7 @@ struct PipelineConfig {
   ObjectMatchConfig object_match;
   MethodConfig method;
   std::uint64_t seed = 0;  // every random step derives its seed from this
-  std::string assets_dir;  // empty: --assets, then $ZEROREG_ASSETS, then <repo>/assets
+  std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
 };
 
 }  // namespace zeroreg

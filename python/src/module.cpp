@@ -31,6 +31,7 @@
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
 #include "zeroreg/register.hpp"
+#include "zeroreg/version.hpp"
 
 namespace py = pybind11;
 using nlohmann::json;
@@ -782,6 +783,7 @@ PYBIND11_MODULE(_zeroreg, m) {
   using namespace zeroreg;          // NOLINT: the module body names many zeroreg types
   using namespace zeroreg::python;  // NOLINT
   m.doc() = "Compiled core of zeroreg; use the package `zeroreg` (docs/PYTHON.md).";
+  m.attr("__version__") = ZEROREG_VERSION;
 
   // Bad input from C++ (files, configs, scans) is a ValueError in Python, like bad arrays.
   py::register_exception_translator([](std::exception_ptr p) {

@@ -1,8 +1,9 @@
-"""Makes the built module importable and provides the real frames the tests use.
+"""Finds the module under test and provides the real frames the tests use.
 
-The module is looked up in $ZEROREG_PYTHONPATH when set, else in <repo>/build/python (where
-`bash scripts/setup.sh` builds it). Data: ../shared/data/7scenes-redkitchen (see its MANIFEST.md):
-640x480 frames, depth in millimetres, camera-to-world poses.
+The tests import the `zeroreg` installed in the running Python (pip install ./python, as
+scripts/test.sh does into a venv), or the build tree's when $ZEROREG_PYTHONPATH is set, e.g.
+ZEROREG_PYTHONPATH=build/python. Data: ../shared/data/7scenes-redkitchen beside the repository
+this file is in (see its MANIFEST.md): 640x480 frames, depth in millimetres, camera-to-world poses.
 """
 
 import os
@@ -12,9 +13,16 @@ import numpy as np
 import pytest
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.environ.get("ZEROREG_PYTHONPATH") or os.path.join(REPO, "build", "python"))
+if os.environ.get("ZEROREG_PYTHONPATH"):
+    sys.path.insert(0, os.environ["ZEROREG_PYTHONPATH"])
 
-import zeroreg  # noqa: E402  (needs the path above)
+try:
+    import zeroreg  # noqa: E402  (may need the path above)
+except ImportError as e:
+    raise ImportError(
+        f"{e}; install the module (pip install --no-build-isolation ./python, docs/PYTHON.md) or "
+        "set ZEROREG_PYTHONPATH=build/python, and run pytest from outside python/"
+    ) from e
 
 KITCHEN = os.path.join(REPO, "..", "shared", "data", "7scenes-redkitchen")
 

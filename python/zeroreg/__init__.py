@@ -31,6 +31,9 @@ from ._zeroreg import (
 from ._zeroreg import refine as _refine
 from ._zeroreg import verify as _verify
 
+# The project version (CMakeLists.txt), compiled into the module: the same as `zeroreg --version`.
+__version__ = _zeroreg.__version__
+
 __all__ = [
     "Pipeline",
     "Result",

@@ -1,6 +1,7 @@
 // Locating and verifying model files (DESIGN §5).
 #include "zeroreg/assets.hpp"
 
+#include <dlfcn.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -19,8 +20,8 @@
 #include "assets/sha256.hpp"
 #include "zeroreg/error.hpp"
 
-#ifndef ZEROREG_REPO_DIR
-#error "ZEROREG_REPO_DIR must be defined by the build (CMakeLists.txt)"
+#if !defined(ZEROREG_REPO_DIR) || !defined(ZEROREG_INSTALL_ASSETS_DIR)
+#error "ZEROREG_REPO_DIR and ZEROREG_INSTALL_ASSETS_DIR come from the build (CMakeLists.txt)"
 #endif
 
 namespace zeroreg {
@@ -143,8 +144,20 @@ std::string Sha256OfFile(const std::string& path) {
 
 namespace detail {
 
+std::string InstalledAssetsDirFor(const std::string& binary_path) {
+  const fs::path binary_dir = fs::absolute(binary_path).lexically_normal().parent_path();
+  const fs::path share = fs::path("share") / "zeroreg" / "assets";
+  for (fs::path dir = binary_dir;; dir = dir.parent_path()) {
+    if (IsDirectory((dir / share).string())) return (dir / share).string();
+    if (dir == dir.parent_path()) break;
+  }
+  // The conventional place, P/bin/../share, so that the "not found" message names it.
+  return (binary_dir.parent_path() / share).string();
+}
+
 std::string ResolveAssetsDirFrom(const std::string& explicit_dir, const std::string& env_value,
-                                 const std::string& repo_dir) {
+                                 const std::string& repo_dir,
+                                 const std::vector<std::string>& installed_dirs) {
   // A folder the user named is meant to be used: falling back to another one would load models
   // other than those asked for, silently.
   if (!explicit_dir.empty()) {
@@ -157,6 +170,7 @@ std::string ResolveAssetsDirFrom(const std::string& explicit_dir, const std::str
   std::vector<std::pair<std::string, std::string>> tried;  // (source, path)
   if (!env_value.empty()) tried.emplace_back("environment variable ZEROREG_ASSETS", env_value);
   tried.emplace_back("repository default", JoinPath(repo_dir, "assets"));
+  for (const std::string& dir : installed_dirs) tried.emplace_back("installed share folder", dir);
 
   for (const auto& candidate : tried) {
     if (IsDirectory(candidate.second)) return candidate.second;
@@ -248,9 +262,34 @@ std::size_t AssetFilesHashedForTesting() {
 
 }  // namespace detail
 
+namespace {
+
+// The file this code was loaded from: the shared object (the Python extension) or the program
+// it is linked into. For the main program dladdr may give argv[0] without a folder, so the
+// kernel's name of the executable is used instead.
+std::string LoadedBinaryPath() {
+  static const char anchor = 0;
+  Dl_info info{};
+  if (::dladdr(&anchor, &info) != 0 && info.dli_fname != nullptr &&
+      std::strchr(info.dli_fname, '/') != nullptr) {
+    return info.dli_fname;
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : exe.string();
+}
+
+}  // namespace
+
 std::string ResolveAssetsDir(const std::string& explicit_dir) {
   const char* env = std::getenv("ZEROREG_ASSETS");
-  return detail::ResolveAssetsDirFrom(explicit_dir, env != nullptr ? env : "", ZEROREG_REPO_DIR);
+  std::vector<std::string> installed;
+  const std::string binary = LoadedBinaryPath();
+  if (!binary.empty()) installed.push_back(detail::InstalledAssetsDirFor(binary));
+  if (installed.empty() || installed.front() != ZEROREG_INSTALL_ASSETS_DIR)
+    installed.push_back(ZEROREG_INSTALL_ASSETS_DIR);
+  return detail::ResolveAssetsDirFrom(explicit_dir, env != nullptr ? env : "", ZEROREG_REPO_DIR,
+                                      installed);
 }
 
 std::string RequireAsset(const std::string& assets_dir, const std::string& relative_path) {

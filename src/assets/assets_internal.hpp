@@ -3,14 +3,22 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace zeroreg::detail {
 
-// ResolveAssetsDir with its three inputs passed in: `env_value` is the value of ZEROREG_ASSETS
-// ("" = unset) and `repo_dir` the repository root (the assets fallback is <repo_dir>/assets).
-// Candidates are tried in that order; the first existing directory wins.
+// ResolveAssetsDir with its inputs passed in: `env_value` is the value of ZEROREG_ASSETS
+// ("" = unset), `repo_dir` the repository root (the assets fallback is <repo_dir>/assets) and
+// `installed_dirs` the installed share folders after it. Candidates are tried in that order; the
+// first existing directory wins.
 std::string ResolveAssetsDirFrom(const std::string& explicit_dir, const std::string& env_value,
-                                 const std::string& repo_dir);
+                                 const std::string& repo_dir,
+                                 const std::vector<std::string>& installed_dirs = {});
+
+// <P>/share/zeroreg/assets for the nearest ancestor P of the folder of `binary_path` that has
+// one (P/bin/zeroreg, P/lib/python3.11/site-packages/zeroreg/_zeroreg.so); when none has,
+// <binary folder>/../share/zeroreg/assets, the place an install would have put it.
+std::string InstalledAssetsDirFor(const std::string& binary_path);
 
 // RequireAsset with the repository root passed in (its sha256 list is
 // <repo_dir>/scripts/assets.sha256, with <assets_dir>/assets.sha256 as fallback).

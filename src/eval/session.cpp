@@ -14,6 +14,7 @@
 #include "eval/summary.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
+#include "zeroreg/version.hpp"
 
 namespace zeroreg {
 namespace {
@@ -67,13 +68,10 @@ OutDirLock::OutDirLock(OutDirLock&& other) noexcept : fd_(other.fd_) { other.fd_
 json RunInfoToJson(const RunInfo& info) {
   json tasks = json::array();
   for (const PairTask& t : info.tasks) tasks.push_back(PairTaskToJson(t));
-  return {{"format_version", kFormatVersion},
-          {"protocol", info.protocol},
-          {"method", info.method},
-          {"settings", info.settings},
-          {"shard", info.shard},
-          {"command", info.command},
-          {"pairs", tasks}};
+  return {{"format_version", kFormatVersion}, {"zeroreg_version", ZEROREG_VERSION},
+          {"protocol", info.protocol},        {"method", info.method},
+          {"settings", info.settings},        {"shard", info.shard},
+          {"command", info.command},          {"pairs", tasks}};
 }
 
 RunInfo RunInfoFromJson(const json& j, const std::string& where) {

@@ -9,6 +9,7 @@
 #include "object_match/graph_match.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
+#include "zeroreg/version.hpp"
 
 namespace zeroreg {
 namespace {
@@ -459,7 +460,8 @@ json ObjectsToJson(const std::vector<ObjectSummary>& objects) {
 json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
   json timings = json::object();
   for (const StageTime& t : r.timings) timings[t.stage] = t.ms;
-  json j{{"T_target_source", TransformToJson(r.T_target_source)},
+  json j{{"zeroreg_version", ZEROREG_VERSION},
+         {"T_target_source", TransformToJson(r.T_target_source)},
          {"valid", r.valid},
          {"reason", r.reason},
          {"path", r.path},

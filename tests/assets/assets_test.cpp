@@ -76,6 +76,33 @@ TEST_F(AssetsResolve, RepoAssetsComeLast) {
   EXPECT_EQ(detail::ResolveAssetsDirFrom("", missing_ + "2", repo_), repo_ + "/assets");
 }
 
+TEST_F(AssetsResolve, InstalledShareFolderComesAfterTheRepo) {
+  const std::string installed = root_ / "prefix/share/zeroreg/assets";
+  fs::create_directories(installed);
+  EXPECT_EQ(detail::ResolveAssetsDirFrom("", "", repo_, {installed}), repo_ + "/assets");
+  EXPECT_EQ(detail::ResolveAssetsDirFrom("", "", missing_, {missing_ + "2", installed}), installed);
+  const std::string message = InputErrorMessage(
+      [&] { detail::ResolveAssetsDirFrom("", "", missing_, {missing_ + "_share"}); });
+  EXPECT_TRUE(Contains(message, missing_ + "_share (installed share folder")) << message;
+}
+
+TEST_F(AssetsResolve, InstalledShareFolderIsFoundAboveTheBinary) {
+  const fs::path prefix = root_ / "prefix";
+  fs::create_directories(prefix / "share/zeroreg/assets");
+  fs::create_directories(prefix / "bin");
+  fs::create_directories(prefix / "lib/python3.11/site-packages/zeroreg");
+  const std::string share = (prefix / "share/zeroreg/assets").string();
+  // The installed CLI and the Python module of a venv (or prefix) both find it.
+  EXPECT_EQ(detail::InstalledAssetsDirFor((prefix / "bin/zeroreg").string()), share);
+  EXPECT_EQ(detail::InstalledAssetsDirFor(
+                (prefix / "lib/python3.11/site-packages/zeroreg/_zeroreg.so").string()),
+            share);
+  // Nothing installed: the conventional place beside bin/ is what the message will name.
+  const fs::path other = root_ / "other";
+  EXPECT_EQ(detail::InstalledAssetsDirFor((other / "bin/zeroreg").string()),
+            (other / "share/zeroreg/assets").string());
+}
+
 TEST_F(AssetsResolve, NothingFoundListsEveryPlaceAndTheFix) {
   const std::string message = InputErrorMessage(
       [&] { detail::ResolveAssetsDirFrom("", missing_ + "_b", missing_ + "_repo"); });

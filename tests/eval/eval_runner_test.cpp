@@ -13,6 +13,7 @@
 #include "eval/session.hpp"
 #include "eval/summary.hpp"
 #include "zeroreg/error.hpp"
+#include "zeroreg/version.hpp"
 
 namespace zeroreg {
 namespace {
@@ -226,6 +227,13 @@ TEST_F(EvalRunner, ResultsFolderRefusesAnotherMethodOrConfig) {
   const std::string out2 = (dir_ / "r2").string();
   static_cast<void>(PrepareOutDir(out2, Info(Tasks(2))));  // lock released at once
   EXPECT_THROW(MergeRuns({out, out2}, (dir_ / "m").string()), InputError);
+}
+
+TEST_F(EvalRunner, RunJsonNamesTheZeroregVersion) {
+  const std::string out = (dir_ / "v").string();
+  PrepareOutDir(out, Info(Tasks(1)));
+  std::ifstream in(dir_ / "v" / "run.json");
+  EXPECT_EQ(nlohmann::json::parse(in).at("zeroreg_version"), ZEROREG_VERSION);
 }
 
 TEST(EvalProgress, FormatsDurations) {

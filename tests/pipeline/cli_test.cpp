@@ -10,6 +10,7 @@
 
 #include "pipeline/cli_fixture.hpp"
 #include "test_paths.hpp"
+#include "zeroreg/version.hpp"
 
 namespace zeroreg {
 namespace {
@@ -29,6 +30,13 @@ TEST_F(CliBadInput, ControlCaseRegisters) {
   EXPECT_LT(j["ground_truth"]["translation_error_cm"].get<double>(), 10.0);
   EXPECT_TRUE(j["config"].contains("ransac"));
   EXPECT_TRUE(j["result"]["timings_ms"].contains("total"));
+  EXPECT_EQ(j["result"]["zeroreg_version"], ZEROREG_VERSION);
+}
+
+TEST(Cli, VersionIsTheProjectVersion) {
+  const auto r = RunCli("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output, "zeroreg " ZEROREG_VERSION "\n");
 }
 
 TEST_F(CliBadInput, MissingFile) {
