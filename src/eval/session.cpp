@@ -24,14 +24,6 @@ namespace fs = std::filesystem;
 
 constexpr int kFormatVersion = 1;
 
-json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MakeInputError(path, "not found; expected a results folder of `zeroreg eval`");
-  json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) throw MakeInputError(path, "is not valid JSON");
-  return j;
-}
-
 void WriteText(const std::string& path, const std::string& text) {
   detail::WriteFileAtomically(path, text);
 }
@@ -95,7 +87,8 @@ RunInfo RunInfoFromJson(const json& j, const std::string& where) {
 
 RunInfo ReadRunInfo(const std::string& out_dir) {
   const std::string path = (fs::path(out_dir) / "run.json").string();
-  return RunInfoFromJson(ReadJsonFile(path), path);
+  return RunInfoFromJson(detail::ReadJsonFile(path, "run.json of a `zeroreg eval` results folder"),
+                         path);
 }
 
 OutDirLock PrepareOutDir(const std::string& out_dir, const RunInfo& info) {

@@ -208,11 +208,19 @@ std::vector<FramePairSummary> SummarizeFramePairs(const std::vector<PairTask>& t
 }
 
 // The verdict confusion of a summary, as the four keys both protocols write.
-void AddVerdictCounts(const VerdictCounts& v, json* out) {
-  (*out)["valid_right"] = v.valid_right;
-  (*out)["valid_wrong"] = v.valid_wrong;
-  (*out)["invalid_right"] = v.invalid_right;
-  (*out)["invalid_wrong"] = v.invalid_wrong;
+// The fields both kinds of summary end with: error statistics, time, paths and verdicts.
+template <typename Summary>
+void AddCommonFields(const Summary& s, json* out) {
+  (*out)["rotation_error_deg"] = StatsJson(s.rotation_error_deg);
+  (*out)["translation_error_cm"] = StatsJson(s.translation_error_cm);
+  (*out)["mean_time_s"] = s.mean_time_s;
+  (*out)["median_time_ms"] = s.median_time_ms;
+  (*out)["paths"] = s.paths;
+  (*out)["object_path_share"] = s.object_path_share;
+  (*out)["valid_right"] = s.verdicts.valid_right;
+  (*out)["valid_wrong"] = s.verdicts.valid_wrong;
+  (*out)["invalid_right"] = s.verdicts.invalid_right;
+  (*out)["invalid_wrong"] = s.verdicts.invalid_wrong;
 }
 
 json ToJson(const MatchBenchmarkSummary& s) {
@@ -226,14 +234,8 @@ json ToJson(const MatchBenchmarkSummary& s) {
            {"valid", s.num_valid},
            {"registration_recall", s.registration_recall},
            {"inlier_ratio", s.inlier_ratio},
-           {"feature_match_recall", s.feature_match_recall},
-           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
-           {"translation_error_cm", StatsJson(s.translation_error_cm)},
-           {"mean_time_s", s.mean_time_s},
-           {"median_time_ms", s.median_time_ms},
-           {"paths", s.paths},
-           {"object_path_share", s.object_path_share}};
-  AddVerdictCounts(s.verdicts, &out);
+           {"feature_match_recall", s.feature_match_recall}};
+  AddCommonFields(s, &out);
   return out;
 }
 
@@ -252,14 +254,8 @@ json ToJson(const FramePairSummary& s) {
            {"valid", s.num_valid},
            {"rotation_accuracy_deg", rot_acc},
            {"translation_accuracy_cm", trans_acc},
-           {"rotation_error_deg", StatsJson(s.rotation_error_deg)},
-           {"translation_error_cm", StatsJson(s.translation_error_cm)},
-           {"success", s.success},
-           {"mean_time_s", s.mean_time_s},
-           {"median_time_ms", s.median_time_ms},
-           {"paths", s.paths},
-           {"object_path_share", s.object_path_share}};
-  AddVerdictCounts(s.verdicts, &out);
+           {"success", s.success}};
+  AddCommonFields(s, &out);
   return out;
 }
 

@@ -41,14 +41,6 @@ std::string ReadBytes(const std::string& path) {
   return s.str();
 }
 
-json ReadJsonFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MakeInputError(path, "cannot be read");
-  json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
-  if (j.is_discarded()) throw MakeInputError(path, "is not valid JSON");
-  return j;
-}
-
 // ---- tables ------------------------------------------------------------------------------------
 
 struct Column {
@@ -408,7 +400,8 @@ std::string StringOr(const json& j, const char* key) {
 
 std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   const std::string path = (fs::path(dir) / "result.json").string();
-  const json doc = ReadJsonFile(path);
+  const json doc =
+      detail::ReadJsonFile(path, "result.json of a `zeroreg register --out-dir` folder");
   if (!doc.is_object() || !doc.contains("result") || !doc["result"].is_object()) {
     throw MakeInputError(path,
                          "has no \"result\" object; expected the result.json written by "
@@ -573,7 +566,9 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
 std::string EvalReport(const std::string& dir, const ReportConfig& config) {
   const fs::path root(dir);
   json summary = json::object();
-  if (fs::exists(root / "summary.json")) summary = ReadJsonFile((root / "summary.json").string());
+  if (fs::exists(root / "summary.json"))
+    summary =
+        detail::ReadJsonFile((root / "summary.json").string(), "summary.json of a results folder");
   const std::vector<PairRecord> records = ReadPairsJsonl((root / "pairs.jsonl").string());
   const std::string protocol = StringOr(summary, "protocol");
   const std::string method = StringOr(summary, "method");
