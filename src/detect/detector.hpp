@@ -13,12 +13,11 @@
 namespace zeroreg {
 
 struct Detection {
-  cv::Rect2f box;     // pixels in the original image, (x, y) = top-left corner
-  std::string label;  // category name, COCO spelling for the built-in backends ("dining table")
+  cv::Rect2f box;      // pixels in the original image, (x, y) = top-left corner
+  std::string label;   // category name, COCO spelling for the built-in backends ("dining table")
   float score = 0.0f;  // confidence in [0, 1]
   int class_id = -1;   // row in the backend's class list; -1 when unknown (file backend)
 };
-
 
 // Model files, already resolved and verified by the caller (the pipeline); only those of the
 // chosen backend are read.
@@ -40,8 +39,10 @@ class Detector {
 };
 
 // Throws InputError for an unknown backend, or a missing / corrupt model or class-list file.
+// ONNX detectors run on the engine of `inference` (default: auto).
 std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
-                                       const DetectorModelPaths& paths);
+                                       const DetectorModelPaths& paths,
+                                       const InferenceConfig& inference = {});
 
 namespace detail {
 

@@ -1,4 +1,5 @@
 #include <cmath>
+#include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "detect/backends.hpp"
@@ -7,20 +8,12 @@
 namespace zeroreg {
 
 YoloxDetector::YoloxDetector(const std::string& onnx_path, const std::string& classes_path,
-                             const DetectorConfig& config)
+                             const DetectorConfig& config, const InferenceConfig& inference)
     : config_(config), onnx_path_(onnx_path) {
   detail::RequireReadableFile(onnx_path, "YOLOX ONNX model");
   classes_ = detail::ReadClassNames(classes_path);
-  try {
-    net_ = cv::dnn::readNetFromONNX(onnx_path);
-  } catch (const cv::Exception& e) {
-    throw MakeInputError(onnx_path, std::string("cannot load as an ONNX network (corrupt or not "
-                                                "the YOLOX-Nano export?): ") +
-                                        e.what());
-  }
-  if (net_.empty()) throw MakeInputError(onnx_path, "ONNX network loaded empty");
-  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  model_ = LoadOnnxModel(onnx_path, "YOLOX ONNX model (corrupt or not the YOLOX-Nano export?)",
+                         inference);
 }
 
 std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
@@ -31,25 +24,19 @@ std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::stri
   const cv::Mat blob = cv::dnn::blobFromImage(canvas, 1.0, cv::Size(kInputSize, kInputSize),
                                               cv::Scalar(0, 0, 0), /*swapRB=*/false,
                                               /*crop=*/false);
-  cv::Mat out;
-  try {
-    std::lock_guard<std::mutex> lock(net_mutex_);
-    net_.setInput(blob);
-    // clone: the output shares the net's buffer, which the next forward overwrites.
-    out = net_.forward().clone();
-  } catch (const cv::Exception& e) {
-    throw MakeInputError(onnx_path_, std::string("forward pass failed: ") + e.what());
-  }
+  const std::vector<Tensor> outputs =
+      model_->Run({{"images", {1, 3, kInputSize, kInputSize}, blob.ptr<float>()}}, {"output"});
+  const std::vector<float>& out = outputs[0].data;
   const int num_cols = 5 + static_cast<int>(classes_.size());
   static constexpr int kStrides[3] = {8, 16, 32};
   int expected_rows = 0;
   for (int s : kStrides) expected_rows += (kInputSize / s) * (kInputSize / s);
-  if (out.total() != static_cast<size_t>(expected_rows) * num_cols) {
-    throw MakeInputError(onnx_path_, "output has " + std::to_string(out.total()) +
+  if (out.size() != static_cast<size_t>(expected_rows) * num_cols) {
+    throw MakeInputError(onnx_path_, "output has " + std::to_string(out.size()) +
                                          " values, expected 1x" + std::to_string(expected_rows) +
                                          "x" + std::to_string(num_cols));
   }
-  const float* data = out.ptr<float>();
+  const float* data = out.data();
   const cv::Rect2f image_rect(0.0f, 0.0f, static_cast<float>(bgr.cols),
                               static_cast<float>(bgr.rows));
   std::vector<Detection> candidates;

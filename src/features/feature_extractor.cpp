@@ -22,10 +22,11 @@ ImageFeatures ImageFeatures::Subset(const std::vector<int>& keep) const {
 }
 
 std::unique_ptr<FeatureExtractor> MakeFeatureExtractor(const FeatureConfig& config,
-                                                       const std::string& assets_dir) {
+                                                       const std::string& assets_dir,
+                                                       const InferenceConfig& inference) {
   if (config.backend == "xfeat") {
     const std::string model = RequireAsset(assets_dir, "xfeat/xfeat_640x640.onnx");
-    return std::make_unique<XFeatExtractor>(model, config);
+    return std::make_unique<XFeatExtractor>(model, config, inference);
   }
   if (config.backend == "sift") return std::make_unique<SiftExtractor>(config);
   throw MakeInputError("features.backend", "unknown feature backend '" + config.backend +

@@ -32,7 +32,9 @@ class FeatureExtractor {
 
 // Builds the backend named by config.backend ("xfeat" or "sift"). Model files are resolved and
 // checked in `assets_dir`. Throws InputError for an unknown backend or a missing/corrupt model.
+// XFeat runs on the engine of `inference` (default: auto).
 std::unique_ptr<FeatureExtractor> MakeFeatureExtractor(const FeatureConfig& config,
-                                                       const std::string& assets_dir);
+                                                       const std::string& assets_dir,
+                                                       const InferenceConfig& inference = {});
 
 }  // namespace zeroreg

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "zeroreg/error.hpp"
@@ -30,19 +31,12 @@ void SampleBilinear(const float* blob, int channels, int height, int width, floa
 
 }  // namespace
 
-XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfig& config)
-    : config_(config) {
-  try {
-    net_ = cv::dnn::readNetFromONNX(model_path);
-  } catch (const cv::Exception& e) {
-    throw MakeInputError(model_path, std::string("cannot load the XFeat ONNX model (") + e.what() +
-                                         "); expected xfeat_640x640.onnx from "
-                                         "../shared/models/xfeat");
-  }
-  if (net_.empty()) throw MakeInputError(model_path, "the XFeat ONNX model loaded empty");
-  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
-}
+XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfig& config,
+                               const InferenceConfig& inference)
+    : config_(config),
+      model_(LoadOnnxModel(model_path,
+                           "XFeat ONNX model (expected xfeat_640x640.onnx from models/xfeat)",
+                           inference)) {}
 
 ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   const int n = kInputSize, cells = kInputSize / kCell;
@@ -69,19 +63,18 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   }
   const cv::Mat blob = cv::dnn::blobFromImage(square, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
                                               /*swapRB=*/true, /*crop=*/false);
-  std::vector<cv::Mat> outputs;
-  {
-    std::lock_guard<std::mutex> lock(net_mutex_);
-    net_.setInput(blob, "input");
-    net_.forward(outputs, std::vector<cv::String>{"output", "1266", "266"});
-    // The outputs share the net's buffers, which the next forward (another thread) overwrites.
-    for (cv::Mat& output : outputs) output = output.clone();
-  }
-  const float* descriptor_map = outputs[0].ptr<float>();  // 64 x 80 x 80
-  const float* logits = outputs[1].ptr<float>();          // 65 x 80 x 80
-  const float* reliability = outputs[2].ptr<float>();     // 1 x 80 x 80, sigmoid applied
-  const int descriptor_dim = outputs[0].size[1];
+  const std::vector<Tensor> outputs =
+      model_->Run({{"input", {1, 3, n, n}, blob.ptr<float>()}}, {"output", "1266", "266"});
+  const float* descriptor_map = outputs[0].data.data();  // 64 x 80 x 80
+  const float* logits = outputs[1].data.data();          // 65 x 80 x 80
+  const float* reliability = outputs[2].data.data();     // 1 x 80 x 80, sigmoid applied
   const size_t plane = static_cast<size_t>(cells) * cells;
+  const int descriptor_dim =
+      outputs[0].shape.size() == 4 ? static_cast<int>(outputs[0].shape[1]) : 0;
+  if (descriptor_dim < 1 || outputs[0].data.size() != descriptor_dim * plane ||
+      outputs[1].data.size() != 65 * plane || outputs[2].data.size() != plane) {
+    throw MakeInputError("XFeat ONNX model", "outputs are not 1xDx80x80, 1x65x80x80, 1x1x80x80");
+  }
 
   // Softmax over the 65 channels of each cell; channel c < 64 is pixel (c / 8, c % 8) of the cell.
   cv::Mat heat(n, n, CV_32F);

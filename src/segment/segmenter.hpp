@@ -7,11 +7,34 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 #include "detect/detector.hpp"
 #include "zeroreg/config.hpp"
 
 namespace zeroreg {
+
+// The image embedding of a view when the segmenter computes one (SAM's encoder output), kept so
+// that later stages can reuse it, e.g. an object appearance descriptor averaged over a mask.
+// Cell (row i, column j) covers the image pixels [j, j + 1) * pixels_per_cell horizontally and
+// [i, i + 1) * pixels_per_cell vertically (image pixel corners; cells beyond the image are
+// padding).
+struct ImageEmbedding {
+  int channels = 0, rows = 0, cols = 0;  // MobileSAM: 256 x 64 x 64
+  std::vector<float> data;               // channels x rows x cols, row-major
+  double pixels_per_cell = 0.0;          // MobileSAM: 16 / r, r = 1024 / max(width, height)
+  bool empty() const { return data.empty(); }
+};
+
+// The masks of all detections of one view.
+struct ViewMasks {
+  // masks[i]: CV_8UC1 of the image size, 255 inside, for detections[i]; all zero when the
+  // segmenter found nothing usable (e.g. a SAM mask below segmenter.sam_min_predicted_iou).
+  std::vector<cv::Mat> masks;
+  // SAM: the decoder's predicted IoU of masks[i] (0-1, before the depth steps); other backends: -1.
+  std::vector<float> predicted_iou;
+  ImageEmbedding embedding;  // empty unless the backend computes one (sam)
+};
 
 class Segmenter {
  public:
@@ -24,10 +47,20 @@ class Segmenter {
   // unreadable or mismatched mask file.
   virtual cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection,
                           int index, const std::string& image_name) = 0;
+  // The masks of all `detections` of one view (indices = positions in the vector). The default
+  // calls Segment for each; SAM overrides it to run its image encoder once per view.
+  virtual ViewMasks SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
+                                const std::vector<Detection>& detections,
+                                const std::string& image_name);
 };
 
-// Throws InputError naming the field for an unknown backend or an out-of-range parameter.
-std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config);
+// Throws InputError naming the field for an unknown backend or an out-of-range parameter. "sam"
+// reads its models from `assets_dir` (RequireAsset) and always runs on ONNX Runtime (OpenCV DNN
+// cannot load them; `inference.threads` applies): an InputError naming segmenter.backend when the
+// build has no ONNX Runtime.
+std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
+                                         const std::string& assets_dir = "",
+                                         const InferenceConfig& inference = {});
 
 namespace detail {
 
@@ -38,6 +71,19 @@ cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size);
 // CV_8UC1, 255 where a pixel has valid depth (> 0 and finite) and some pixel within `radius` px
 // (square window) is invalid or differs in depth by more than `relative` * its depth.
 cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative);
+
+// The depth steps every colour mask goes through (GrabCut's and SAM's): pixels of `candidates`
+// (box coordinates) whose depth lies in the band around the median valid depth of `reference`,
+// that are not on a depth edge (`edges`, box coordinates), then eroded (SegmenterConfig). Returns
+// an empty Mat when `reference` has no valid depth. `size_per_metre_depth` = box shorter side
+// (px) / focal length (px).
+cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
+                   const cv::Mat& reference, double size_per_metre_depth,
+                   const SegmenterConfig& config);
+
+// Depth edges (DepthEdgeMask with the config's radius and threshold) inside `box`, computed on the
+// box padded by the radius so that the box border sees its neighbours. Box coordinates.
+cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config);
 
 // "<masks_dir>/<image stem>_<index>.png", the file backend's mask path.
 std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index);

@@ -86,6 +86,20 @@ TEST_F(CliBadInput, SetMessagesSayWhatWasGiven) {
 
 // ---- files that are folders or FIFOs ------------------------------------------------------------
 
+// inference.engine (issue 11): an unknown engine, a thread count out of range, and (in a build
+// without ONNX Runtime) the engines and backends that need it, each named.
+TEST_F(CliBadInput, InferenceEngineAndSamNamed) {
+  ExpectClearError(Run("--set inference.engine=tensorrt"), "inference.engine",
+                   "expected one of: auto, onnxruntime, opencv");
+  ExpectClearError(Run("--set inference.threads=0"), "inference.threads", "expected an integer");
+  ExpectClearError(Run("--set segmenter.backend=sam2"), "segmenter.backend", "sam");
+#ifndef ZEROREG_TEST_WITH_ONNXRUNTIME
+  ExpectClearError(Run("--set inference.engine=onnxruntime"), "inference.engine",
+                   "built without ONNX Runtime");
+  ExpectClearError(Run("--set segmenter.backend=sam"), "segmenter.backend", "needs ONNX Runtime");
+#endif
+}
+
 TEST_F(CliBadInput, ConfigThatIsAFolder) {
   fs::create_directories(Path("config-folder"));
   ExpectClearError(Run("--config '" + Path("config-folder") + "'"), "config-folder",

