@@ -73,9 +73,10 @@ Runner AddBenchModelsCommand(CLI::App& app) {
         "per image, wall ms (median / min / max over %d runs x %zu images), "
         "inference.threads = %d\n",
         o->runs, images.size(), config.inference.threads);
-    std::printf("| %-22s | %-11s | %8s | %8s | %8s | %5s |\n", "model", "engine", "median", "min",
-                "max", "n");
-    std::printf("|%s|%s|%s|%s|%s|%s|\n", std::string(24, '-').c_str(), std::string(13, '-').c_str(),
+    std::printf("| %-22s | %-11s | %-5s | %8s | %8s | %8s | %5s |\n", "model", "engine", "per",
+                "median", "min", "max", "n");
+    std::printf("|%s|%s|%s|%s|%s|%s|%s|\n", std::string(24, '-').c_str(),
+                std::string(13, '-').c_str(), std::string(7, '-').c_str(),
                 std::string(10, '-').c_str(), std::string(10, '-').c_str(),
                 std::string(10, '-').c_str(), std::string(7, '-').c_str());
     const std::string xfeat = RequireAsset(assets, "xfeat/xfeat_640x640.onnx");
