@@ -14,11 +14,6 @@
 namespace zeroreg {
 namespace {
 
-size_t Count(const std::vector<std::int64_t>& shape) {
-  return std::accumulate(shape.begin(), shape.end(), size_t{1},
-                         [](size_t a, std::int64_t b) { return a * static_cast<size_t>(b); });
-}
-
 void RequireReadable(const std::string& path, const std::string& what) {
   if (path.empty()) throw MakeInputError(what, "no model file given");
   std::ifstream in(path, std::ios::binary);
@@ -84,6 +79,11 @@ class OpenCvModel : public OnnxModel {
 // ---------------------------------------------------------------------------------------------
 
 #ifdef ZEROREG_WITH_ONNXRUNTIME
+
+size_t Count(const std::vector<std::int64_t>& shape) {
+  return std::accumulate(shape.begin(), shape.end(), size_t{1},
+                         [](size_t a, std::int64_t b) { return a * static_cast<size_t>(b); });
+}
 
 // One environment per process (ORT's logging and default thread state); created on first use.
 Ort::Env& Environment() {
