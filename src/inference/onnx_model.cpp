@@ -85,10 +85,11 @@ size_t Count(const std::vector<std::int64_t>& shape) {
                          [](size_t a, std::int64_t b) { return a * static_cast<size_t>(b); });
 }
 
-// One environment per process (ORT's logging and default thread state); created on first use.
+// One environment per process (ORT's logging and default thread state); created on first use and
+// never destroyed: sessions held by other static objects may outlive any static destructor order.
 Ort::Env& Environment() {
-  static Ort::Env env(ORT_LOGGING_LEVEL_ERROR, "zeroreg");
-  return env;
+  static Ort::Env* env = new Ort::Env(ORT_LOGGING_LEVEL_ERROR, "zeroreg");
+  return *env;
 }
 
 class OrtModel : public OnnxModel {
