@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 
 #include "parallel/parallel_for.hpp"
@@ -25,8 +26,26 @@ Eigen::Matrix3d SkewSymmetric(const Eigen::Vector3d& v) {
 
 struct IcpGeometry::Level {
   double voxel_m = 0;
-  open3d::geometry::PointCloud cloud;  // thinned points with normals
-  std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
+  // Thinned points, with normals once MakeTargetReady ran. Mutable for that one write of the
+  // normals (under target_once); the points never change, so sources may read them meanwhile.
+  mutable open3d::geometry::PointCloud cloud;
+
+  // Normals and k-d tree, made once however many threads ask (the thinned points stay as they
+  // are: a source only reads them).
+  const open3d::geometry::KDTreeFlann& MakeTargetReady() const {
+    std::call_once(target_once, [this] {
+      if (cloud.points_.size() < 6) return;
+      // Each normal depends only on its neighbourhood, so Open3D's parallel estimation is still
+      // deterministic.
+      cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(3 * voxel_m, 30));
+      tree = std::make_unique<open3d::geometry::KDTreeFlann>(cloud);
+    });
+    return *tree;
+  }
+
+ private:
+  mutable std::once_flag target_once;
+  mutable std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
 };
 
 IcpGeometry::IcpGeometry() = default;
@@ -35,7 +54,7 @@ IcpGeometry::IcpGeometry(const IcpGeometry&) = default;
 IcpGeometry& IcpGeometry::operator=(const IcpGeometry&) = default;
 
 IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
-                         const std::vector<IcpStage>& stages) {
+                         const std::vector<IcpStage>& stages, bool as_target) {
   // The raw points are copied into an Open3D cloud once; each resolution thins that.
   open3d::geometry::PointCloud raw;
   raw.points_ = points;
@@ -47,13 +66,7 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
     auto level = std::make_shared<Level>();
     level->voxel_m = stage.voxel_m;
     level->cloud = *raw.VoxelDownSample(stage.voxel_m);
-    if (level->cloud.points_.size() >= 6) {
-      // Normals from 30 neighbours within 3 voxels: each normal depends only on its
-      // neighbourhood, so Open3D's parallel estimation is still deterministic.
-      level->cloud.EstimateNormals(
-          open3d::geometry::KDTreeSearchParamHybrid(3 * stage.voxel_m, 30));
-      level->tree = std::make_unique<open3d::geometry::KDTreeFlann>(level->cloud);
-    }
+    if (as_target) level->MakeTargetReady();
     levels_.push_back(std::move(level));
   }
 }
@@ -67,7 +80,8 @@ size_t IcpGeometry::NumPoints(double voxel_m) const {
 
 size_t IcpGeometry::MemoryBytes() const {
   size_t bytes = 0;
-  // Points and normals, plus the k-d tree's copy of the points and its nodes (about as much again).
+  // Points and normals, plus the k-d tree's copy of the points and its nodes (about as much again;
+  // counted whether or not they are made yet: what the scan holds once it was a target).
   for (const auto& l : levels_) bytes += l->cloud.points_.size() * 4 * sizeof(Eigen::Vector3d);
   return bytes;
 }
@@ -200,7 +214,8 @@ IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& targe
       throw std::logic_error("RefinePointToPlane: geometry not built for this ICP schedule");
     }
     if (s->cloud.points_.size() < 6 || t->cloud.points_.size() < 6) break;
-    RunStage(s->cloud.points_, t->cloud, *t->tree, stage, anchors, threads, &T, &result);
+    const open3d::geometry::KDTreeFlann& tree = t->MakeTargetReady();
+    RunStage(s->cloud.points_, t->cloud, tree, stage, anchors, threads, &T, &result);
   }
   result.T_target_source = T;
   return result;

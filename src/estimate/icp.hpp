@@ -55,8 +55,11 @@ class IcpGeometry {
   IcpGeometry(const IcpGeometry&);
   IcpGeometry& operator=(const IcpGeometry&);
   // Thins `points` (raw, scan frame) to one point per voxel for every distinct voxel size of
-  // `stages` that runs, and estimates the normals there (30 neighbours within 3 voxels).
-  IcpGeometry(const std::vector<Eigen::Vector3d>& points, const std::vector<IcpStage>& stages);
+  // `stages` that runs. What only a target needs (normals from 30 neighbours within 3 voxels, the
+  // k-d tree) is made now when `as_target`, else on first use as a target (once, thread-safe):
+  // a scan known to be only a source skips it.
+  IcpGeometry(const std::vector<Eigen::Vector3d>& points, const std::vector<IcpStage>& stages,
+              bool as_target = true);
   // Points at the resolution voxel_m (0 when that resolution was not built).
   size_t NumPoints(double voxel_m) const;
   size_t MemoryBytes() const;  // approximate heap use

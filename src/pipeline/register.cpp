@@ -364,8 +364,9 @@ struct Pipeline::Impl {
   std::unique_ptr<TextEmbedder> embedder;
   std::unique_ptr<CorrespondenceSource> correspondence_source;
 
-  // Prepare without the input check (the caller made it, naming the scan's role).
-  std::shared_ptr<const Prepared> PrepareChecked(const Scan& scan) const {
+  // Prepare without the input check (the caller made it, naming the scan's role). A scan that
+  // will only be a source (Register(scan, scan)) skips what only a target needs (ICP normals).
+  std::shared_ptr<const Prepared> PrepareChecked(const Scan& scan, bool as_target = true) const {
     auto p = std::make_shared<Prepared>();
     p->pipeline_id = id;
     p->scan = scan;
@@ -381,7 +382,7 @@ struct Pipeline::Impl {
       if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
       // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
       if (config.refine.enabled) {
-        p->icp = IcpGeometry(ScanPoints(scan, /*stride=*/2), IcpSchedule(config.refine));
+        p->icp = IcpGeometry(ScanPoints(scan, /*stride=*/2), IcpSchedule(config.refine), as_target);
       }
       geometry_timer.Mark("geometry");
     };
@@ -529,7 +530,7 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   // (the models serialise their inference, so one scan's detector overlaps the other's features).
   std::shared_ptr<const Prepared> s, t;
   RunBoth(
-      impl_->config.threads >= 2, [&] { s = impl_->PrepareChecked(source); },
+      impl_->config.threads >= 2, [&] { s = impl_->PrepareChecked(source, /*as_target=*/false); },
       [&] { t = impl_->PrepareChecked(target); });
   StageTimer timer;
   // Per-scan stages first, summed over both scans (when they ran at once they add up to more

@@ -18,9 +18,13 @@ TEST(ParallelFor, EveryIndexExactlyOnceForAnyThreadCount) {
         ++chunks;
         for (size_t i = begin; i < end; ++i) ++hits[i];
       });
-      for (size_t i = 0; i < n; ++i) ASSERT_EQ(hits[i], 1) << n << " " << threads << " " << i;
+      for (size_t i = 0; i < n; ++i) {
+        ASSERT_EQ(hits[i], 1) << n << " " << threads << " " << i;
+      }
       EXPECT_LE(chunks.load(), std::max(1, threads));
-      if (n >= 100000 && threads >= 2) EXPECT_EQ(chunks.load(), threads);  // really split
+      if (n >= 100000 && threads >= 2) {
+        EXPECT_EQ(chunks.load(), threads);  // really split
+      }
     }
   }
 }
