@@ -25,7 +25,8 @@ def test_prepared_scans_register_bit_for_bit_like_scans(pipeline, result_20_0_fr
     r = pipeline.register(a, b)
     np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
     assert r.valid == result_20_0_from_paths.valid
-    assert r.num_inliers == result_20_0_from_paths.num_inliers
+    assert r.counts == result_20_0_from_paths.counts
+    assert r.inlier_rmse == result_20_0_from_paths.inlier_rmse
     assert zeroreg.rotation_error_deg(r.T_target_source, gt(20, 0)) < 5.0
     assert zeroreg.translation_error_m(r.T_target_source, gt(20, 0)) < 0.10
     # Only the pair's stages ran: perception was done by prepare().
