@@ -44,14 +44,19 @@ def positional(n, defaults):
     return out
 
 
-def timed(command):
-    """Runs command; returns (exit code, wall seconds, peak RSS MiB) of that process alone."""
+def timed(command, cpu=None):
+    """Runs command; returns (exit code, wall seconds, peak RSS MiB) of that process alone, and
+    appends its CPU seconds (user + system) to `cpu` when given: on a loaded machine the CPU time
+    is the steadier measure of work done."""
     with tempfile.NamedTemporaryFile("r", suffix=".rss") as rss:
         start = time.perf_counter()
-        code = subprocess.call(["/usr/bin/time", "-f", "%M", "-o", rss.name] + command,
+        code = subprocess.call(["/usr/bin/time", "-f", "%M %U %S", "-o", rss.name] + command,
                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         wall = time.perf_counter() - start
-        return code, wall, int(rss.read().split()[-1]) / 1024
+        fields = rss.read().split()
+        if cpu is not None:
+            cpu.append(float(fields[-2]) + float(fields[-1]))
+        return code, wall, int(fields[-3]) / 1024
 
 
 def list_pairs(name, k):
@@ -75,7 +80,7 @@ if mode == "pairs":
     k, runs = (int(x) for x in positional(2, ["2", "3"]))
     out = tempfile.mkdtemp()
     pairs = [(name, i, j) for name in lists for i, j in list_pairs(name, k)]
-    stages, per_list = {}, {}
+    stages, per_list, cpu_z, cpu_s = {}, {}, [], []
     first = pairs[0]
     for cmd in ([binary, "register", "-s", f"{scene(first[0])}@{first[2]}", "-t",
                  f"{scene(first[0])}@{first[1]}"] + args,
@@ -86,7 +91,8 @@ if mode == "pairs":
         for name, i, j in pairs:
             src, tgt = f"{scene(name)}@{j}", f"{scene(name)}@{i}"
             result = f"{out}/r.json"
-            _, wall, rss = timed([binary, "register", "-s", src, "-t", tgt, "--out", result] + args)
+            _, wall, rss = timed([binary, "register", "-s", src, "-t", tgt, "--out", result] + args,
+                                 cpu_z)
             r = json.load(open(result))["result"]
             for stage, ms in r["timings_ms"].items():
                 stages.setdefault(stage, []).append(ms)
@@ -94,7 +100,7 @@ if mode == "pairs":
             stats["zeroreg"].append(wall)
             stats["rss"].append(rss)
             _, wall, rss = timed([binary, "register", "--baseline", "sift", "-s", src, "-t", tgt]
-                                 + args)
+                                 + args, cpu_s)
             stats["sift"].append(wall)
             stats["rss_sift"].append(rss)
     print(f"{len(pairs)} pairs ({k} per list) x {runs} runs, options: {' '.join(args) or '(none)'}")
@@ -114,26 +120,32 @@ if mode == "pairs":
               f"{max(s['rss_sift']):8.0f}")
     print(f"  {'all':18s} {median(all_z):8.3f} {median(all_s):8.3f} "
           f"{median(all_z) / median(all_s):6.2f} {max(all_rss):6.0f}")
+    print(f"CPU seconds (user + system) per process, median: zeroreg {median(cpu_z):.3f}, "
+          f"sift {median(cpu_s):.3f}, ratio {median(cpu_z) / median(cpu_s):.2f}; "
+          f"load average now {os.getloadavg()[0]:.1f}")
 elif mode == "eval":
     (limit,) = positional(1, ["20"])
     chosen = [a for a in args if not a.startswith("-") and a in lists]
     args = [a for a in args if a not in chosen]
     chosen = chosen or [l for l in lists if "cross" not in l]
     print(f"zeroreg eval pairs --limit {limit} --jobs 1 {' '.join(args)}: whole process")
-    print(f"  {'list':18s} {'cached s':>9s} {'uncached s':>10s} {'ratio':>6s} {'RSS':>6s} "
-          f"{'RSS uncached':>12s}")
+    print(f"  {'list':18s} {'cached s':>9s} {'uncached s':>10s} {'ratio':>6s} {'CPU s':>6s} "
+          f"{'uncached':>8s} {'ratio':>6s} {'RSS MiB':>7s} {'uncached':>8s}")
     for name in chosen:
         row = []
         for cache in ([], ["--prepared-cache", "0"]):
             with tempfile.TemporaryDirectory() as out:
+                cpu = []
                 code, wall, rss = timed([binary, "eval", "pairs", "--list", f"{lists_dir}/{name}",
                                          "--data", scene(name), "--out", f"{out}/run", "--limit",
-                                         limit, "--jobs", "1", "--no-progress"] + cache + args)
+                                         limit, "--jobs", "1", "--no-progress"] + cache + args,
+                                        cpu)
                 if code not in (0, 3):
                     print(f"  {name}: eval failed with exit code {code}", file=sys.stderr)
-                row.append((wall, rss))
+                row.append((wall, rss, cpu[0]))
         print(f"  {name:18s} {row[0][0]:9.2f} {row[1][0]:10.2f} {row[0][0] / row[1][0]:6.2f} "
-              f"{row[0][1]:6.0f} {row[1][1]:12.0f}")
+              f"{row[0][2]:6.1f} {row[1][2]:8.1f} {row[0][2] / row[1][2]:6.2f} "
+              f"{row[0][1]:7.0f} {row[1][1]:8.0f}")
 else:
     sys.exit(f"bench-speed.sh: unknown mode '{mode}'; expected pairs or eval")
 PY

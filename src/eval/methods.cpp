@@ -8,6 +8,8 @@
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/utility/Random.h>
 
+#include <exception>
+#include <future>
 #include <mutex>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -51,8 +53,24 @@ class ZeroregMethod : public PairMethod {
     const auto prepared = [&](const std::string& ref) {
       return shared_->prepared.Get(ref, [&] { return shared_->pipeline.Prepare(load(ref)); });
     };
-    const PreparedScan source = prepared(source_ref);
-    const PreparedScan target = prepared(target_ref);
+    // Both scans at once when they are both new (as Register(scan, scan) would); a cached one
+    // returns at once.
+    PreparedScan source, target;
+    if (shared_->pipeline.config().threads >= 2) {
+      std::future<PreparedScan> pending =
+          std::async(std::launch::async, [&] { return prepared(source_ref); });
+      std::exception_ptr target_error;
+      try {
+        target = prepared(target_ref);
+      } catch (...) {
+        target_error = std::current_exception();
+      }
+      source = pending.get();  // the source's error first, as in the serial order
+      if (target_error) std::rethrow_exception(target_error);
+    } else {
+      source = prepared(source_ref);
+      target = prepared(target_ref);
+    }
     return Output(shared_->pipeline.Register(source, target));
   }
 

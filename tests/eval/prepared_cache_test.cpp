@@ -7,10 +7,13 @@
 
 #include <atomic>
 #include <chrono>
+#include <map>
+#include <memory>
 #include <stdexcept>
 #include <thread>
 #include <vector>
 
+#include "eval/methods.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/io.hpp"
 
@@ -88,6 +91,31 @@ TEST_F(PreparedCacheTest, FailuresAreNotCachedAndConcurrentAskersShareOnePrepara
   for (std::thread& t : threads) t.join();
   EXPECT_EQ(prepared_, 1);
   for (const PreparedScan& p : got) EXPECT_EQ(&p.scan(), &got[0].scan());  // one shared scan
+}
+
+TEST(ZeroregMethodWithPreparedScans, SequenceGivesTheRecordsOfPairsRegisteredOneByOne) {
+  // A sequence 0 <- 20 <- 40: frame 20 is the source of one pair and the target of the next, and
+  // is read and prepared once; every transform is that of registering the pair on its own.
+  const MethodFactory cached = MakeMethodFactory("zeroreg", PipelineConfig(), FpfhConfig());
+  const std::unique_ptr<PairMethod> method = cached();
+  std::map<std::string, int> reads;
+  const PairMethod::ScanLoadFunction load = [&](const std::string& ref) {
+    ++reads[ref];
+    return LoadScan(ref);
+  };
+  const Pipeline reference{PipelineConfig()};
+  const std::string dir = testing::RedkitchenDir() + "@";
+  for (int i : {0, 20}) {
+    const std::string target = dir + std::to_string(i), source = dir + std::to_string(i + 20);
+    const MethodOutput out = method->RunRefs(source, target, load);
+    const RegistrationResult alone = reference.Register(LoadScan(source), LoadScan(target));
+    EXPECT_TRUE(alone.valid) << alone.reason;
+    EXPECT_EQ(out.T_target_source, alone.T_target_source) << source << " -> " << target;
+    EXPECT_EQ(out.valid, alone.valid);
+    EXPECT_EQ(out.num_inliers, alone.num_inliers);
+  }
+  EXPECT_EQ(reads[dir + "20"], 1);  // read once, used twice
+  EXPECT_EQ(reads.size(), 3u);
 }
 
 }  // namespace
