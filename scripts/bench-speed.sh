@@ -105,7 +105,10 @@ if mode == "pairs":
             stats["rss_sift"].append(rss)
     print(f"{len(pairs)} pairs ({k} per list) x {runs} runs, options: {' '.join(args) or '(none)'}")
     print("median wall time per stage of `zeroreg register` (ms, timings_ms):")
-    for stage, values in stages.items():
+    order = ["read_scans", "load_models", "features", "detect", "segment", "objects", "geometry",
+             "object_match", "point_match", "match", "estimate", "verify", "refine", "total"]
+    for stage in sorted(stages, key=lambda s: order.index(s) if s in order else len(order)):
+        values = stages[stage]
         print(f"  {stage:14s} {median(values):8.1f}   (min {min(values):.1f}, max {max(values):.1f})")
     print("\nwhole process, median wall (s) and max peak RSS (MiB):")
     print(f"  {'list':18s} {'zeroreg':>8s} {'sift':>8s} {'ratio':>6s} {'RSS':>6s} {'RSS sift':>8s}")
