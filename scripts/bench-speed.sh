@@ -9,7 +9,7 @@
 #     median of every stage of timings_ms (read_scans and load_models included), the median
 #     whole-process wall time and peak RSS per list for both, and the ratio zeroreg / SIFT.
 #
-#   bash scripts/bench-speed.sh eval [LIMIT=20] [LISTS="redkitchen-gap20 hololens-gap1 ..."]
+#   bash scripts/bench-speed.sh eval [LIMIT=20] [LIST ...]   (list names; default: every non-cross list)
 #     `zeroreg eval pairs --limit LIMIT --jobs 1` over each sequence list, with the prepared-scan
 #     cache (default) and without it (--prepared-cache 0: every pair prepares both scans, as
 #     registering them one by one in one process does), whole-process wall time and peak RSS of
