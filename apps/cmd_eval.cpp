@@ -35,6 +35,7 @@ struct CommonOptions {
   std::string out, method = "zeroreg", pairs_file, shard = "0/1";
   int jobs = 1, limit = 0;
   bool no_progress = false;
+  PreparedCacheOptions cache;  // zeroreg / image: prepared scans kept across pairs
   ConfigOptions config;
 };
 
@@ -48,7 +49,10 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
                  "path), fpfh (Open3D FPFH + RANSAC), sift or orb (OpenCV features, ratio test, "
                  "depth lifting, RANSAC)")
       ->capture_default_str();
-  app.add_option("--jobs,-j", o->jobs, "pairs evaluated in parallel (one method instance each)")
+  app.add_option(
+         "--jobs,-j", o->jobs,
+         "pairs evaluated in parallel (zeroreg/image: sharing one Pipeline and its prepared "
+         "scans)")
       ->capture_default_str()
       ->check(InRange(1, 256, /*integer=*/true));
   app.add_option("--limit", o->limit, "only the first N selected pairs (0 = all)")
@@ -60,6 +64,17 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
                  "`zeroreg eval merge`")
       ->capture_default_str();
   app.add_flag("--no-progress", o->no_progress, "no progress bar on stderr");
+  app.add_option("--prepared-cache", o->cache.max_scans,
+                 "zeroreg/image: scans kept prepared (features, objects, clouds) for the later "
+                 "pairs that name them, least recently used out first; 0 = prepare both scans "
+                 "of every pair (results are identical either way)")
+      ->capture_default_str()
+      ->check(InRange(0, 100000, /*integer=*/true));
+  app.add_option_function<double>(
+         "--prepared-cache-mib",
+         [o](double mib) { o->cache.max_bytes = static_cast<size_t>(mib * 1024 * 1024); },
+         "zeroreg/image: at most this much memory held by the prepared scans [default 512]")
+      ->check(InRange(1, 1 << 20, /*integer=*/false));
   AddConfigOptions(app, &o->config);
 }
 
@@ -215,9 +230,10 @@ int RunMatch(const MatchOptions& o) {
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
 
   // The method first: a bad config or missing model is reported before minutes of fusion.
-  const MethodFactory factory = o.fuse_only ? MethodFactory()
-                                            : MakeMethodFactory(o.common.method, method.pipeline,
-                                                                method.fpfh, method.features);
+  const MethodFactory factory =
+      o.fuse_only ? MethodFactory()
+                  : MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
+                                      method.features, o.common.cache);
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
 
   // Lazy fusion: only the fragments of this shard's pairs that are not finished yet.
@@ -280,8 +296,8 @@ int RunFramePairs(const FramePairOptions& o) {
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
-  const MethodFactory factory =
-      MakeMethodFactory(o.common.method, method.pipeline, method.fpfh, method.features);
+  const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
+                                                  method.features, o.common.cache);
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
   return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
 }

@@ -1,9 +1,11 @@
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include "commands.hpp"
 #include "config_options.hpp"
+#include "eval/methods.hpp"
 #include "eval/metrics.hpp"
 #include "io/text_parsing.hpp"
 #include "viz/pictures.hpp"
@@ -20,6 +22,8 @@ struct RegisterOptions {
   std::string source, target, out, gt, viz, out_dir;
   double depth_scale = 0.0;
   bool with_correspondences = false;
+  bool timings = false;
+  std::string baseline;  // "", "sift" or "orb"
   ConfigOptions config;
 };
 
@@ -53,6 +57,14 @@ Runner AddRegisterCommand(CLI::App& app) {
                  "`zeroreg report DIR` makes a page of it");
   app.add_flag("--with-correspondences", o->with_correspondences,
                "include every 3D correspondence in the JSON result");
+  app.add_option("--baseline", o->baseline,
+                 "register with the classical baseline instead of the pipeline: sift or orb "
+                 "(OpenCV keypoints, ratio test, depth lifting, RANSAC; the --method of `zeroreg "
+                 "eval`), for comparing whole-process time (scripts/bench-speed.sh)")
+      ->check(CLI::IsMember({"sift", "orb"}));
+  app.add_flag("--timings", o->timings,
+               "print the wall time of every stage on stderr, one per line, from reading the "
+               "scans and loading the models to the pictures and files written");
   AddConfigOptions(app, &o->config);
 
   return [o]() {
@@ -65,8 +77,18 @@ Runner AddRegisterCommand(CLI::App& app) {
     const PipelineConfig config = BuildConfig(o->config);
     DatasetOptions dataset_options;
     dataset_options.depth_scale = o->depth_scale;
+    const auto process_start = std::chrono::steady_clock::now();
+    auto last = process_start;
+    // Wall time since the previous call, ms.
+    const auto lap = [&last]() {
+      const auto now = std::chrono::steady_clock::now();
+      const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+      last = now;
+      return ms;
+    };
     const Scan source = LoadScan(o->source, dataset_options);
     const Scan target = LoadScan(o->target, dataset_options);
+    const double read_ms = lap();
     std::optional<Transform> T_gt;
     if (!o->gt.empty()) {
       T_gt = ReadPoseFile(o->gt);
@@ -74,8 +96,47 @@ Runner AddRegisterCommand(CLI::App& app) {
       T_gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
     }
 
+    if (!o->baseline.empty()) {
+      FeatureBaselineConfig baseline;
+      baseline.detector = o->baseline;
+      baseline.seed = config.seed;
+      const MethodOutput r = RunFeatureBaseline(baseline, source, target);
+      const double register_ms = lap();
+      std::printf("zeroreg register --baseline %s: %s -> %s\n", o->baseline.c_str(),
+                  o->source.c_str(), o->target.c_str());
+      PrintTransform(r.T_target_source);
+      std::printf("verdict: %s (%s)\n", r.valid ? "VALID" : "FAILED", r.reason.c_str());
+      if (T_gt) {
+        std::printf("error vs ground truth: rotation %.3f deg, translation %.2f cm\n",
+                    RotationErrorDeg(r.T_target_source, *T_gt),
+                    TranslationErrorM(r.T_target_source, *T_gt) * 100);
+      }
+      if (o->timings) {
+        std::fprintf(stderr, "timings (ms):\n  %-14s %9.1f\n  %-14s %9.1f\n", "read_scans", read_ms,
+                     "register", register_ms);
+      }
+      if (!o->out.empty()) {
+        const nlohmann::json out{
+            {"source", o->source},
+            {"target", o->target},
+            {"baseline", FeatureBaselineConfigToJson(baseline)},
+            {"result",
+             {{"T_target_source", TransformToJson(r.T_target_source)},
+              {"valid", r.valid},
+              {"reason", r.reason},
+              {"timings_ms", {{"read_scans", read_ms}, {"register", register_ms}}}}}};
+        detail::WriteFileAtomically(o->out, detail::DumpJson(out, 2) + "\n");
+      }
+      return r.valid ? kExitOk : kExitRegistrationFailed;
+    }
+
     const Pipeline pipeline(config);
-    const RegistrationResult result = pipeline.Register(source, target);
+    const double models_ms = lap();
+    RegistrationResult result = pipeline.Register(source, target);
+    lap();
+    // The process's own stages go first in timings_ms; "total" stays the registration's.
+    result.timings.insert(result.timings.begin(),
+                          {{"read_scans", read_ms}, {"load_models", models_ms}});
 
     std::printf("zeroreg register: %s -> %s\n", o->source.c_str(), o->target.c_str());
     std::printf("T_target_source (%s path):\n", result.path.c_str());
@@ -136,6 +197,18 @@ Runner AddRegisterCommand(CLI::App& app) {
           "result, %zu pictures and registered.ply (%zu target + %zu source points) "
           "written to %s\n",
           pictures.size(), ply.num_target, ply.num_source, o->out_dir.c_str());
+    }
+    if (o->timings) {
+      const double output_ms = lap();
+      std::fprintf(stderr, "timings (ms; with threads >= 2 the two scans' stages overlap):\n");
+      for (const StageTime& t : result.timings) {
+        std::fprintf(stderr, "  %-14s %9.1f\n", t.stage.c_str(), t.ms);
+      }
+      std::fprintf(stderr, "  %-14s %9.1f\n", "write_output", output_ms);
+      std::fprintf(stderr, "  %-14s %9.1f\n", "process",
+                   std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() -
+                                                             process_start)
+                       .count());
     }
     return result.valid ? kExitOk : kExitRegistrationFailed;
   };

@@ -1,34 +1,154 @@
 #!/usr/bin/env bash
-# Speed and memory of the default pipeline per frame pair (issue 6): runs `zeroreg register` on
-# redkitchen pairs (i, i+GAP) for i = 0, STEP, ... (N pairs), and prints the median wall time per
-# stage (from each result's timings_ms, models already loaded) and the peak RSS of the process.
+# Speed and memory benchmark (issues 6 and 13); not a test. Two parts:
 #
-#   bash scripts/bench-speed.sh [N=15] [GAP=20] [STEP=60] [extra register options...]
+#   bash scripts/bench-speed.sh pairs [K=2] [RUNS=3]
+#     A fixed set of frame pairs, K from every list of ../shared/lists (evenly spread over the
+#     list), each registered RUNS times as its own process after one warm-up, alternating
+#     `zeroreg register` (default pipeline) with `zeroreg register --baseline sift` (OpenCV SIFT +
+#     ratio test + RANSAC) of the same pair, so that both see the same machine load. Prints the
+#     median of every stage of timings_ms (read_scans and load_models included), the median
+#     whole-process wall time and peak RSS per list for both, and the ratio zeroreg / SIFT.
+#
+#   bash scripts/bench-speed.sh eval [LIMIT=20] [LIST ...]   (list names; default: every non-cross list)
+#     `zeroreg eval pairs --limit LIMIT --jobs 1` over each sequence list, with the prepared-scan
+#     cache (default) and without it (--prepared-cache 0: every pair prepares both scans, as
+#     registering them one by one in one process does), whole-process wall time and peak RSS of
+#     each, and the ratio.
+#
+# Extra options after the positional ones go to every zeroreg (e.g. --set threads=1).
+# Environment: ZEROREG_BIN (default build/zeroreg), LISTS_DIR (../shared/lists), DATA
+# (../shared/data). Timings on a shared machine are noisy: compare medians of a run, not runs.
 set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
-n="${1:-15}"; gap="${2:-20}"; step="${3:-60}"; shift $(( $# < 3 ? $# : 3 ))
-bin="${ZEROREG_BIN:-build/zeroreg}"
-data="../shared/data/7scenes-redkitchen"
-out="$(mktemp -d)"
-trap 'rm -rf "$out"' EXIT
-for ((k = 0; k < n; ++k)); do
-  i=$((k * step))
-  # GNU time's %M: peak resident set size of the process, KiB.
-  /usr/bin/time -f "%M" -o "$out/rss-$k.txt" "$bin" register --source "$data@$((i + gap))" \
-    --target "$data@$i" --out "$out/result-$k.json" "$@" > /dev/null 2>&1 || true
-done
-/usr/bin/python3 - "$out" "$n" <<'PY'
-import json, statistics, sys, glob
-out, n = sys.argv[1], int(sys.argv[2])
-stages, rss = {}, []
-for k in range(n):
-    result = json.load(open(f"{out}/result-{k}.json"))["result"]
-    for stage, ms in result["timings_ms"].items():
-        stages.setdefault(stage, []).append(ms)
-    rss.append(int(open(f"{out}/rss-{k}.txt").read().split()[-1]) / 1024)
-print(f"{n} pairs; median wall time per stage (ms):")
-for stage, values in stages.items():
-    print(f"  {stage:14s} {statistics.median(values):8.1f}   (min {min(values):.1f}, max {max(values):.1f})")
-print(f"peak RSS per process: median {statistics.median(rss):.0f} MiB, max {max(rss):.0f} MiB")
+mode="${1:-pairs}"
+shift || true
+exec /usr/bin/python3 - "$mode" "$@" <<'PY'
+import json, os, statistics, subprocess, sys, tempfile, time
+
+mode, args = sys.argv[1], sys.argv[2:]
+binary = os.environ.get("ZEROREG_BIN", "build/zeroreg")
+lists_dir = os.environ.get("LISTS_DIR", "../shared/lists")
+data_dir = os.environ.get("DATA", "../shared/data")
+SCENES = {"redkitchen": "7scenes-redkitchen", "hololens": "hololens-office",
+          "cabinet": "tum-fr3-cabinet"}
+
+
+def positional(n, defaults):
+    out = []
+    for k in range(n):
+        if args and not args[0].startswith("-"):
+            out.append(args.pop(0))
+        else:
+            out.append(defaults[k])
+    return out
+
+
+def timed(command, cpu=None):
+    """Runs command; returns (exit code, wall seconds, peak RSS MiB) of that process alone, and
+    appends its CPU seconds (user + system) to `cpu` when given: on a loaded machine the CPU time
+    is the steadier measure of work done."""
+    with tempfile.NamedTemporaryFile("r", suffix=".rss") as rss:
+        start = time.perf_counter()
+        code = subprocess.call(["/usr/bin/time", "-f", "%M %U %S", "-o", rss.name] + command,
+                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        wall = time.perf_counter() - start
+        fields = rss.read().split()
+        if cpu is not None:
+            cpu.append(float(fields[-2]) + float(fields[-1]))
+        return code, wall, int(fields[-3]) / 1024
+
+
+def list_pairs(name, k):
+    rows = [l.split() for l in open(f"{lists_dir}/{name}/pairs.txt")
+            if l.strip() and not l.startswith("#")]
+    picks = sorted({round(i * (len(rows) - 1) / max(1, k - 1)) for i in range(k)})
+    return [(int(rows[p][0]), int(rows[p][1])) for p in picks]
+
+
+def scene(name):
+    return f"{data_dir}/{SCENES[name.split('-')[0]]}"
+
+
+def median(values):
+    return statistics.median(values) if values else float("nan")
+
+
+lists = sorted(d for d in os.listdir(lists_dir) if os.path.isfile(f"{lists_dir}/{d}/pairs.txt"))
+
+if mode == "pairs":
+    k, runs = (int(x) for x in positional(2, ["2", "3"]))
+    out = tempfile.mkdtemp()
+    pairs = [(name, i, j) for name in lists for i, j in list_pairs(name, k)]
+    stages, per_list, cpu_z, cpu_s = {}, {}, [], []
+    first = pairs[0]
+    for cmd in ([binary, "register", "-s", f"{scene(first[0])}@{first[2]}", "-t",
+                 f"{scene(first[0])}@{first[1]}"] + args,
+                [binary, "register", "--baseline", "sift", "-s", f"{scene(first[0])}@{first[2]}",
+                 "-t", f"{scene(first[0])}@{first[1]}"] + args):
+        timed(cmd)  # warm-up: page cache, models
+    for run in range(runs):
+        for name, i, j in pairs:
+            src, tgt = f"{scene(name)}@{j}", f"{scene(name)}@{i}"
+            result = f"{out}/r.json"
+            _, wall, rss = timed([binary, "register", "-s", src, "-t", tgt, "--out", result] + args,
+                                 cpu_z)
+            r = json.load(open(result))["result"]
+            for stage, ms in r["timings_ms"].items():
+                stages.setdefault(stage, []).append(ms)
+            stats = per_list.setdefault(name, {"zeroreg": [], "sift": [], "rss": [], "rss_sift": []})
+            stats["zeroreg"].append(wall)
+            stats["rss"].append(rss)
+            _, wall, rss = timed([binary, "register", "--baseline", "sift", "-s", src, "-t", tgt]
+                                 + args, cpu_s)
+            stats["sift"].append(wall)
+            stats["rss_sift"].append(rss)
+    print(f"{len(pairs)} pairs ({k} per list) x {runs} runs, options: {' '.join(args) or '(none)'}")
+    print("median wall time per stage of `zeroreg register` (ms, timings_ms):")
+    order = ["read_scans", "load_models", "features", "detect", "segment", "objects", "geometry",
+             "object_match", "point_match", "match", "estimate", "verify", "refine", "total"]
+    for stage in sorted(stages, key=lambda s: order.index(s) if s in order else len(order)):
+        values = stages[stage]
+        print(f"  {stage:14s} {median(values):8.1f}   (min {min(values):.1f}, max {max(values):.1f})")
+    print("\nwhole process, median wall (s) and max peak RSS (MiB):")
+    print(f"  {'list':18s} {'zeroreg':>8s} {'sift':>8s} {'ratio':>6s} {'RSS':>6s} {'RSS sift':>8s}")
+    all_z, all_s, all_rss = [], [], []
+    for name in lists:
+        s = per_list[name]
+        all_z += s["zeroreg"]
+        all_s += s["sift"]
+        all_rss += s["rss"]
+        print(f"  {name:18s} {median(s['zeroreg']):8.3f} {median(s['sift']):8.3f} "
+              f"{median(s['zeroreg']) / median(s['sift']):6.2f} {max(s['rss']):6.0f} "
+              f"{max(s['rss_sift']):8.0f}")
+    print(f"  {'all':18s} {median(all_z):8.3f} {median(all_s):8.3f} "
+          f"{median(all_z) / median(all_s):6.2f} {max(all_rss):6.0f}")
+    print(f"CPU seconds (user + system) per process, median: zeroreg {median(cpu_z):.3f}, "
+          f"sift {median(cpu_s):.3f}, ratio {median(cpu_z) / median(cpu_s):.2f}; "
+          f"load average now {os.getloadavg()[0]:.1f}")
+elif mode == "eval":
+    (limit,) = positional(1, ["20"])
+    chosen = [a for a in args if not a.startswith("-") and a in lists]
+    args = [a for a in args if a not in chosen]
+    chosen = chosen or [l for l in lists if "cross" not in l]
+    print(f"zeroreg eval pairs --limit {limit} --jobs 1 {' '.join(args)}: whole process")
+    print(f"  {'list':18s} {'cached s':>9s} {'uncached s':>10s} {'ratio':>6s} {'CPU s':>6s} "
+          f"{'uncached':>8s} {'ratio':>6s} {'RSS MiB':>7s} {'uncached':>8s}")
+    for name in chosen:
+        row = []
+        for cache in ([], ["--prepared-cache", "0"]):
+            with tempfile.TemporaryDirectory() as out:
+                cpu = []
+                code, wall, rss = timed([binary, "eval", "pairs", "--list", f"{lists_dir}/{name}",
+                                         "--data", scene(name), "--out", f"{out}/run", "--limit",
+                                         limit, "--jobs", "1", "--no-progress"] + cache + args,
+                                        cpu)
+                if code not in (0, 3):
+                    print(f"  {name}: eval failed with exit code {code}", file=sys.stderr)
+                row.append((wall, rss, cpu[0]))
+        print(f"  {name:18s} {row[0][0]:9.2f} {row[1][0]:10.2f} {row[0][0] / row[1][0]:6.2f} "
+              f"{row[0][2]:6.1f} {row[1][2]:8.1f} {row[0][2] / row[1][2]:6.2f} "
+              f"{row[0][1]:7.0f} {row[1][1]:8.0f}")
+else:
+    sys.exit(f"bench-speed.sh: unknown mode '{mode}'; expected pairs or eval")
 PY

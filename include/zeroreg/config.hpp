@@ -373,6 +373,13 @@ struct PipelineConfig {
   MethodConfig method;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
+  // Threads one registration may use: Register(Scan, Scan) prepares the two scans concurrently,
+  // Prepare makes a scan's depth geometry while its images go through the models, and ICP searches
+  // closest points in parallel. Results are bit-identical for any value (every parallel part
+  // writes its own slots; sums are reduced serially in a fixed order). 1 = everything on the
+  // calling thread. Default 2: the two scans of a pair, the most that parallelises evenly; the
+  // models' own inference threads are the engine's business.
+  int threads = 2;
 };
 
 }  // namespace zeroreg

@@ -6,14 +6,51 @@
 //   if (r.valid) use(r.T_target_source); else log(r.reason);
 //
 // For many pairs, build one Pipeline (it loads the models once) and call Register repeatedly.
+// When a scan is in several pairs (a sequence, a loop-closure search), prepare it once and
+// register the prepared scans: everything that depends on one scan alone is then done once.
+//
+//   zeroreg::Pipeline pipeline(config);
+//   const zeroreg::PreparedScan a = pipeline.Prepare(scan_a), b = pipeline.Prepare(scan_b);
+//   zeroreg::RegistrationResult r = pipeline.Register(a, b);  // bit-identical to (scan_a, scan_b)
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
+
+// One scan as a Pipeline perceived it (Pipeline::Prepare): per view the features with their 3D
+// points, the detections, masks and objects, and the scan's geometry for the later stages (surface
+// samples of the verification, the thinned clouds, normals and k-d trees of ICP), plus the scan
+// itself (its views' images are shared with the Scan it was made from, as cv::Mat copies are:
+// do not write into them afterwards). Opaque and immutable: copies share the data, and one
+// prepared scan may be used by several threads at once. Usable only with the Pipeline that made it.
+class PreparedScan {
+ public:
+  PreparedScan();  // empty: Register refuses it
+  ~PreparedScan();
+  PreparedScan(const PreparedScan&);
+  PreparedScan& operator=(const PreparedScan&);
+
+  bool empty() const;
+  const Scan& scan() const;  // throws std::logic_error when empty
+  // Wall time of preparing it, per stage (features, detect, segment, objects, geometry), ms.
+  const std::vector<StageTime>& timings() const;
+  // Approximate heap memory held beyond the scan's images and points (features, masks, clouds),
+  // bytes; what a cache of prepared scans budgets.
+  std::size_t MemoryBytes() const;
+
+  struct Data;
+
+ private:
+  friend class Pipeline;
+  std::shared_ptr<const Data> data_;
+};
 
 class Pipeline {
  public:
@@ -27,7 +64,16 @@ class Pipeline {
   // Throws InputError when a scan cannot be used at all (no views, empty or mismatched images).
   // A registration that fails is returned with valid = false and a reason, never as a silent
   // identity.
+  // Prepares both scans (concurrently when config.threads >= 2) and registers them.
   RegistrationResult Register(const Scan& source, const Scan& target) const;
+
+  // Everything of the pipeline that depends on `scan` alone. Throws InputError as Register does.
+  // Thread-safe: several threads may prepare and register with one Pipeline at once.
+  PreparedScan Prepare(const Scan& scan) const;
+  // The same result, bit for bit, as Register(source.scan(), target.scan()), without redoing the
+  // per-scan work; the timings hold only the per-pair stages. Throws InputError for an empty
+  // prepared scan or one made by another Pipeline.
+  RegistrationResult Register(const PreparedScan& source, const PreparedScan& target) const;
 
   const PipelineConfig& config() const;
 

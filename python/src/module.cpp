@@ -637,12 +637,39 @@ std::string Repr(const RegistrationResult& r) {
 }
 
 // Pipeline::Register with the scans converted first (they need the GIL), then run without it.
+// Either scan may be a PreparedScan (Pipeline.prepare); a plain one is then prepared here.
 RegistrationResult RegisterWith(const Pipeline& pipeline, const py::handle& source,
                                 const py::handle& target) {
-  const Scan s = ScanFromPython(source, "source");
-  const Scan t = ScanFromPython(target, "target");
+  const bool source_prepared = py::isinstance<PreparedScan>(source);
+  const bool target_prepared = py::isinstance<PreparedScan>(target);
+  if (!source_prepared && !target_prepared) {
+    const Scan s = ScanFromPython(source, "source");
+    const Scan t = ScanFromPython(target, "target");
+    py::gil_scoped_release release;
+    return pipeline.Register(s, t);
+  }
+  PreparedScan s, t;
+  Scan raw_s, raw_t;
+  if (source_prepared) {
+    s = source.cast<PreparedScan>();
+  } else {
+    raw_s = ScanFromPython(source, "source");
+  }
+  if (target_prepared) {
+    t = target.cast<PreparedScan>();
+  } else {
+    raw_t = ScanFromPython(target, "target");
+  }
   py::gil_scoped_release release;
+  if (!source_prepared) s = pipeline.Prepare(raw_s);
+  if (!target_prepared) t = pipeline.Prepare(raw_t);
   return pipeline.Register(s, t);
+}
+
+PreparedScan PrepareWith(const Pipeline& pipeline, const py::handle& scan) {
+  const Scan s = ScanFromPython(scan, "scan");
+  py::gil_scoped_release release;
+  return pipeline.Prepare(s);
 }
 
 void BindResult(py::module_& m) {
@@ -801,12 +828,40 @@ PYBIND11_MODULE(_zeroreg, m) {
 
   BindResult(m);
 
+  py::class_<PreparedScan>(
+      m, "PreparedScan",
+      "A scan as a Pipeline perceived it (Pipeline.prepare): features, detections, masks, "
+      "objects and the clouds of verification and ICP, reused by every register() it is "
+      "given to. Immutable; usable only with the Pipeline that made it.")
+      .def_property_readonly("name", [](const PreparedScan& p) { return p.scan().name; })
+      .def_property_readonly("num_views",
+                             [](const PreparedScan& p) { return p.scan().views.size(); })
+      .def_property_readonly("memory_bytes", &PreparedScan::MemoryBytes,
+                             "approximate memory it holds (images, features, masks, clouds)")
+      .def_property_readonly(
+          "timings",
+          [](const PreparedScan& p) {
+            py::dict d;
+            for (const StageTime& t : p.timings()) d[py::str(t.stage)] = t.ms;
+            return d;
+          },
+          "wall time of preparing it per stage, milliseconds")
+      .def("__repr__", [](const PreparedScan& p) {
+        return "<zeroreg.PreparedScan '" + p.scan().name + "' " +
+               std::to_string(p.scan().views.size()) + " view(s)>";
+      });
+
   py::class_<Pipeline>(m, "Pipeline")
       .def(py::init([](const py::object& config, const py::object& seed) {
              return std::make_unique<Pipeline>(ConfigFromPython(config, seed));
            }),
            py::arg("config") = py::none(), py::arg("seed") = py::none())
-      .def("register", &RegisterWith, py::arg("source"), py::arg("target"))
+      .def("register", &RegisterWith, py::arg("source"), py::arg("target"),
+           "Registers source into target; either may be a PreparedScan from prepare() (the "
+           "result is the same, bit for bit, as for the scans themselves).")
+      .def("prepare", &PrepareWith, py::arg("scan"),
+           "Everything that depends on one scan alone, done once: pass the PreparedScan to "
+           "register() as often as needed.")
       .def_property_readonly("config",
                              [](const Pipeline& p) { return FromJson(ConfigToJson(p.config())); });
 

@@ -21,6 +21,7 @@ import numpy as np
 
 from . import _zeroreg
 from ._zeroreg import (
+    PreparedScan,
     Result,
     default_config,
     read_color,
@@ -36,6 +37,7 @@ __version__ = _zeroreg.__version__
 
 __all__ = [
     "Pipeline",
+    "PreparedScan",
     "Result",
     "Scan",
     "View",
@@ -97,8 +99,10 @@ def _fields(obj: Any) -> dict:
     return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
 
 
-def _native(scan: Any, where: str) -> Union[str, dict]:
-    """A scan as the compiled module takes it: a path string or a dict of dicts."""
+def _native(scan: Any, where: str) -> Union[str, dict, PreparedScan]:
+    """A scan as the compiled module takes it: a path string, a dict of dicts or a PreparedScan."""
+    if isinstance(scan, PreparedScan):
+        return scan
     if isinstance(scan, (str, bytes, os.PathLike)):
         return os.fspath(scan)
     if isinstance(scan, Scan):
@@ -145,9 +149,21 @@ class Pipeline:
         """The effective config, as the JSON config dict."""
         return self._impl.config
 
-    def register(self, source: ScanLike, target: ScanLike) -> Result:
-        """Registers source to target; the result's T_target_source maps source into target."""
+    def register(
+        self, source: Union[ScanLike, PreparedScan], target: Union[ScanLike, PreparedScan]
+    ) -> Result:
+        """Registers source to target; the result's T_target_source maps source into target.
+
+        Either may be a PreparedScan from prepare(): the result is the same, bit for bit, and what
+        depends on that scan alone is not computed again.
+        """
         return self._impl.register(_native(source, "source"), _native(target, "target"))
+
+    def prepare(self, scan: ScanLike) -> PreparedScan:
+        """Everything of the pipeline that depends on one scan alone (features, detections, masks,
+        objects, the clouds of verification and ICP), done once. Pass the result to register() as
+        often as needed, with this Pipeline only; it is immutable and may be shared by threads."""
+        return self._impl.prepare(_native(scan, "scan"))
 
 
 def register(

@@ -6,7 +6,12 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <memory>
+#include <mutex>
+#include <stdexcept>
+
+#include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
 namespace {
@@ -17,24 +22,106 @@ Eigen::Matrix3d SkewSymmetric(const Eigen::Vector3d& v) {
   return S;
 }
 
-// Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result.
+}  // namespace
+
+struct IcpGeometry::Level {
+  double voxel_m = 0;
+  // Thinned points, with normals once MakeTargetReady ran. Mutable for that one write of the
+  // normals (under target_once); the points never change, so sources may read them meanwhile.
+  mutable open3d::geometry::PointCloud cloud;
+
+  // Normals and k-d tree, made once however many threads ask (the thinned points stay as they
+  // are: a source only reads them).
+  const open3d::geometry::KDTreeFlann& MakeTargetReady() const {
+    std::call_once(target_once, [this] {
+      if (cloud.points_.size() < 6) return;
+      // Each normal depends only on its neighbourhood, so Open3D's parallel estimation is still
+      // deterministic.
+      cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(3 * voxel_m, 30));
+      tree = std::make_unique<open3d::geometry::KDTreeFlann>(cloud);
+    });
+    return *tree;
+  }
+
+ private:
+  mutable std::once_flag target_once;
+  mutable std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
+};
+
+IcpGeometry::IcpGeometry() = default;
+IcpGeometry::~IcpGeometry() = default;
+IcpGeometry::IcpGeometry(const IcpGeometry&) = default;
+IcpGeometry& IcpGeometry::operator=(const IcpGeometry&) = default;
+
+IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
+                         const std::vector<IcpStage>& stages, bool as_target) {
+  // The raw points are copied into an Open3D cloud once; each resolution thins that.
+  open3d::geometry::PointCloud raw;
+  raw.points_ = points;
+  for (const IcpStage& stage : stages) {
+    if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
+    const bool built = std::any_of(levels_.begin(), levels_.end(),
+                                   [&](const auto& l) { return l->voxel_m == stage.voxel_m; });
+    if (built) continue;
+    auto level = std::make_shared<Level>();
+    level->voxel_m = stage.voxel_m;
+    level->cloud = *raw.VoxelDownSample(stage.voxel_m);
+    if (as_target) level->MakeTargetReady();
+    levels_.push_back(std::move(level));
+  }
+}
+
+size_t IcpGeometry::NumPoints(double voxel_m) const {
+  for (const auto& l : levels_) {
+    if (l->voxel_m == voxel_m) return l->cloud.points_.size();
+  }
+  return 0;
+}
+
+size_t IcpGeometry::MemoryBytes() const {
+  size_t bytes = 0;
+  // Points and normals, plus the k-d tree's copy of the points and its nodes (about as much again;
+  // counted whether or not they are made yet: what the scan holds once it was a target).
+  for (const auto& l : levels_) bytes += l->cloud.points_.size() * 4 * sizeof(Eigen::Vector3d);
+  return bytes;
+}
+
+namespace {
+
+// Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result. The
+// closest-point search is the costly part and the only parallel one: each source point's
+// neighbour is found independently, then the sums run serially in point order.
 void RunStage(const std::vector<Eigen::Vector3d>& source,
               const open3d::geometry::PointCloud& target, const open3d::geometry::KDTreeFlann& tree,
-              const IcpStage& stage, const IcpAnchors& anchors, Transform* T, IcpResult* result) {
+              const IcpStage& stage, const IcpAnchors& anchors, int threads, Transform* T,
+              IcpResult* result) {
   const double gate_sq = stage.max_distance_m * stage.max_distance_m;
-  std::vector<int> index(1);
-  std::vector<double> distance_sq(1);
+  std::vector<Eigen::Vector3d> moved(source.size());
+  std::vector<int> nearest(source.size());
+  std::vector<double> nearest_sq(source.size());
   for (int it = 0; it < stage.iterations; ++it) {
+    const Transform current = *T;
+    ParallelFor(source.size(), threads, [&](size_t begin, size_t end) {
+      std::vector<int> index(1);
+      std::vector<double> distance_sq(1);
+      for (size_t i = begin; i < end; ++i) {
+        moved[i] = (current * source[i].homogeneous()).head<3>();
+        const bool found =
+            tree.SearchKNN(moved[i], 1, index, distance_sq) >= 1 && distance_sq[0] <= gate_sq;
+        nearest[i] = found ? index[0] : -1;
+        nearest_sq[i] = found ? distance_sq[0] : 0.0;
+      }
+    });
     // Linearised point-to-plane residual n^T (R p + t - q) with R ~ I + [w]x, x = [w; t].
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int matched = 0;
     double sum_sq = 0, sum_plane_sq = 0;
-    for (const Eigen::Vector3d& s : source) {
-      const Eigen::Vector3d p = (*T * s.homogeneous()).head<3>();
-      if (tree.SearchKNN(p, 1, index, distance_sq) < 1 || distance_sq[0] > gate_sq) continue;
-      const Eigen::Vector3d& q = target.points_[index[0]];
-      const Eigen::Vector3d& n = target.normals_[index[0]];
+    for (size_t i = 0; i < source.size(); ++i) {
+      if (nearest[i] < 0) continue;
+      const Eigen::Vector3d& p = moved[i];
+      const Eigen::Vector3d& q = target.points_[nearest[i]];
+      const Eigen::Vector3d& n = target.normals_[nearest[i]];
       Eigen::Matrix<double, 6, 1> J;
       J << p.cross(n), n;
       const double r = n.dot(p - q);
@@ -42,7 +129,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       Jtr += J * r;
       sum_plane_sq += r * r;
       ++matched;
-      sum_sq += distance_sq[0];
+      sum_sq += nearest_sq[i];
     }
     // Anchors: r = p - q with p = T s, d p / d[w; t] = [-[p]x, I] for the update R ~ I + [w]x.
     // Both kinds of evidence get an equal say: the anchors in the gate together weigh as much as
@@ -108,35 +195,38 @@ std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
        config.anchor_weight_fine, iv}};
 }
 
-IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
-                             const std::vector<Eigen::Vector3d>& target, const Transform& initial,
-                             const std::vector<IcpStage>& stages, const IcpAnchors& anchors) {
+IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& target,
+                             const Transform& initial, const std::vector<IcpStage>& stages,
+                             const IcpAnchors& anchors, int threads) {
   IcpResult result;
   Transform T = initial;
-  // The raw points are copied into Open3D clouds once; each resolution thins those.
-  open3d::geometry::PointCloud source_cloud, target_cloud;
-  source_cloud.points_ = source;
-  target_cloud.points_ = target;
-  double current_voxel = -1.0;
-  std::shared_ptr<open3d::geometry::PointCloud> source_thin, target_thin;
-  std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
+  const auto level = [](const IcpGeometry& g, double voxel_m) -> const IcpGeometry::Level* {
+    for (const auto& l : g.levels_) {
+      if (l->voxel_m == voxel_m) return l.get();
+    }
+    return nullptr;
+  };
   for (const IcpStage& stage : stages) {
     if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
-    if (stage.voxel_m != current_voxel) {  // consecutive stages at one resolution share it
-      current_voxel = stage.voxel_m;
-      source_thin = source_cloud.VoxelDownSample(stage.voxel_m);
-      target_thin = target_cloud.VoxelDownSample(stage.voxel_m);
-      if (source_thin->points_.size() < 6 || target_thin->points_.size() < 6) break;
-      // Normals from 30 neighbours within 3 voxels: each normal depends only on its
-      // neighbourhood, so Open3D's parallel estimation is still deterministic.
-      target_thin->EstimateNormals(
-          open3d::geometry::KDTreeSearchParamHybrid(3 * stage.voxel_m, 30));
-      tree = std::make_unique<open3d::geometry::KDTreeFlann>(*target_thin);
+    const IcpGeometry::Level* s = level(source, stage.voxel_m);
+    const IcpGeometry::Level* t = level(target, stage.voxel_m);
+    if (s == nullptr || t == nullptr) {
+      throw std::logic_error("RefinePointToPlane: geometry not built for this ICP schedule");
     }
-    RunStage(source_thin->points_, *target_thin, *tree, stage, anchors, &T, &result);
+    if (s->cloud.points_.size() < 6 || t->cloud.points_.size() < 6) break;
+    const open3d::geometry::KDTreeFlann& tree = t->MakeTargetReady();
+    RunStage(s->cloud.points_, t->cloud, tree, stage, anchors, threads, &T, &result);
   }
   result.T_target_source = T;
   return result;
+}
+
+IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
+                             const std::vector<Eigen::Vector3d>& target, const Transform& initial,
+                             const std::vector<IcpStage>& stages, const IcpAnchors& anchors,
+                             int threads) {
+  return RefinePointToPlane(IcpGeometry(source, stages), IcpGeometry(target, stages), initial,
+                            stages, anchors, threads);
 }
 
 }  // namespace zeroreg

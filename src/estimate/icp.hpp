@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 #include "zeroreg/config.hpp"
@@ -43,11 +44,46 @@ struct IcpAnchors {
 // The coarse, fine and final stages of RefineConfig, in order.
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config);
 
-// Point-to-plane ICP from `initial` through `stages`, on raw (not yet thinned) points in the
-// source and target frames.
+// A scan's points thinned to each resolution of an ICP schedule, with normals and a k-d tree per
+// resolution: everything ICP needs of one scan, in either role (source: the thinned points; target:
+// points, normals, tree). Built once per scan (Pipeline::Prepare) and shared read-only by every
+// registration the scan is in; copies share the data.
+class IcpGeometry {
+ public:
+  IcpGeometry();
+  ~IcpGeometry();
+  IcpGeometry(const IcpGeometry&);
+  IcpGeometry& operator=(const IcpGeometry&);
+  // Thins `points` (raw, scan frame) to one point per voxel for every distinct voxel size of
+  // `stages` that runs. What only a target needs (normals from 30 neighbours within 3 voxels, the
+  // k-d tree) is made now when `as_target`, else on first use as a target (once, thread-safe):
+  // a scan known to be only a source skips it.
+  IcpGeometry(const std::vector<Eigen::Vector3d>& points, const std::vector<IcpStage>& stages,
+              bool as_target = true);
+  // Points at the resolution voxel_m (0 when that resolution was not built).
+  size_t NumPoints(double voxel_m) const;
+  size_t MemoryBytes() const;  // approximate heap use
+
+  struct Level;  // Open3D types stay out of this header
+
+ private:
+  friend IcpResult RefinePointToPlane(const IcpGeometry&, const IcpGeometry&, const Transform&,
+                                      const std::vector<IcpStage>&, const IcpAnchors&, int);
+  std::vector<std::shared_ptr<const Level>> levels_;  // one per distinct voxel size, in order
+};
+
+// Point-to-plane ICP from `initial` through `stages` (which must be those the geometries were
+// built for). The closest-point search of each iteration runs on `threads` threads; the sums are
+// reduced serially in point order, so the result is bit-identical for any thread count.
+IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& target,
+                             const Transform& initial, const std::vector<IcpStage>& stages,
+                             const IcpAnchors& anchors = IcpAnchors(), int threads = 1);
+
+// The same on raw (not yet thinned) points in the source and target frames: builds both
+// geometries first.
 IcpResult RefinePointToPlane(const std::vector<Eigen::Vector3d>& source,
                              const std::vector<Eigen::Vector3d>& target, const Transform& initial,
                              const std::vector<IcpStage>& stages,
-                             const IcpAnchors& anchors = IcpAnchors());
+                             const IcpAnchors& anchors = IcpAnchors(), int threads = 1);
 
 }  // namespace zeroreg

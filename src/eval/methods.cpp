@@ -8,6 +8,8 @@
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/utility/Random.h>
 
+#include <exception>
+#include <future>
 #include <mutex>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -16,7 +18,7 @@
 
 #include "estimate/lift.hpp"
 #include "estimate/rigid_ransac.hpp"
-
+#include "eval/prepared_cache.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 #include "zeroreg/register.hpp"
@@ -26,13 +28,54 @@ namespace {
 
 namespace reg = open3d::pipelines::registration;
 
+// One Pipeline (thread-safe; its models are loaded once) and one cache of prepared scans, shared
+// by the instances of every runner thread.
+struct SharedPipeline {
+  SharedPipeline(const PipelineConfig& config, const PreparedCacheOptions& cache)
+      : pipeline(config), prepared(cache.max_scans, cache.max_bytes), cached(cache.max_scans > 0) {}
+  Pipeline pipeline;
+  PreparedScanCache prepared;
+  bool cached;
+};
+
 class ZeroregMethod : public PairMethod {
  public:
-  ZeroregMethod(const PipelineConfig& config, bool require_image_path)
-      : pipeline_(config), require_image_path_(require_image_path) {}
+  ZeroregMethod(std::shared_ptr<SharedPipeline> shared, bool require_image_path)
+      : shared_(std::move(shared)), require_image_path_(require_image_path) {}
 
   MethodOutput Run(const Scan& source, const Scan& target) override {
-    RegistrationResult r = pipeline_.Register(source, target);
+    return Output(shared_->pipeline.Register(source, target));
+  }
+
+  MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
+                       const ScanLoadFunction& load) override {
+    if (!shared_->cached) return Run(load(source_ref), load(target_ref));
+    const auto prepared = [&](const std::string& ref) {
+      return shared_->prepared.Get(ref, [&] { return shared_->pipeline.Prepare(load(ref)); });
+    };
+    // Both scans at once when they are both new (as Register(scan, scan) would); a cached one
+    // returns at once.
+    PreparedScan source, target;
+    if (shared_->pipeline.config().threads >= 2) {
+      std::future<PreparedScan> pending =
+          std::async(std::launch::async, [&] { return prepared(source_ref); });
+      std::exception_ptr target_error;
+      try {
+        target = prepared(target_ref);
+      } catch (...) {
+        target_error = std::current_exception();
+      }
+      source = pending.get();  // the source's error first, as in the serial order
+      if (target_error) std::rethrow_exception(target_error);
+    } else {
+      source = prepared(source_ref);
+      target = prepared(target_ref);
+    }
+    return Output(shared_->pipeline.Register(source, target));
+  }
+
+ private:
+  MethodOutput Output(RegistrationResult r) const {
     if (require_image_path_ && r.path != "image") {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
       throw std::logic_error("--method image: the pipeline used the '" + r.path +
@@ -48,8 +91,7 @@ class ZeroregMethod : public PairMethod {
     return out;
   }
 
- private:
-  Pipeline pipeline_;
+  std::shared_ptr<SharedPipeline> shared_;
   bool require_image_path_;
 };
 
@@ -342,7 +384,8 @@ void CheckMethodName(const std::string& method) {
 }
 
 MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
-                                const FpfhConfig& fpfh, const FeatureBaselineConfig& features) {
+                                const FpfhConfig& fpfh, const FeatureBaselineConfig& features,
+                                const PreparedCacheOptions& cache) {
   CheckMethodName(method);
   if (method == "sift" || method == "orb") {
     FeatureBaselineConfig c = features;
@@ -355,11 +398,11 @@ MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig&
   }
   const PipelineConfig effective = MethodPipelineConfig(method, config);
   const bool image = method == "image";
-  // Build one pipeline now so that a bad config or a missing model is reported before any
-  // thread starts (and before fragments are fused).
-  { const Pipeline check(effective); }
-  return [effective, image]() -> std::unique_ptr<PairMethod> {
-    return std::make_unique<ZeroregMethod>(effective, image);
+  // Built now so that a bad config or a missing model is reported before any thread starts (and
+  // before fragments are fused).
+  const auto shared = std::make_shared<SharedPipeline>(effective, cache);
+  return [shared, image]() -> std::unique_ptr<PairMethod> {
+    return std::make_unique<ZeroregMethod>(shared, image);
   };
 }
 

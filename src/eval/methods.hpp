@@ -12,6 +12,7 @@
 //            with least-squares refit (FeatureBaselineConfig); a count verdict
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -29,6 +30,21 @@ class PairMethod {
  public:
   virtual ~PairMethod() = default;
   virtual MethodOutput Run(const Scan& source, const Scan& target) = 0;
+  // The runner's call: the scans by their refs in the list (one ref = one scan), loaded through
+  // `load` when the method needs them. The zeroreg method keeps prepared scans by ref (a frame in
+  // several pairs is read and perceived once); the default loads both and calls Run.
+  using ScanLoadFunction = std::function<Scan(const std::string& ref)>;
+  virtual MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
+                               const ScanLoadFunction& load) {
+    return Run(load(source_ref), load(target_ref));
+  }
+};
+
+// The prepared-scan cache of the zeroreg / image methods (eval/prepared_cache.hpp); shared by all
+// runner threads. max_scans = 0 turns it off (every pair prepares both scans, as Register does).
+struct PreparedCacheOptions {
+  std::size_t max_scans = 32;         // PreparedScanCache::kDefaultMaxScans
+  std::size_t max_bytes = 512 << 20;  // PreparedScanCache::kDefaultMaxBytes
 };
 
 // Open3D 0.16 global registration baseline, settings of the 3DMatch literature (voxel 5 cm).
@@ -94,11 +110,12 @@ void CheckMethodName(const std::string& method);
 using MethodFactory = std::function<std::unique_ptr<PairMethod>()>;
 // zeroreg / image run a Pipeline with MethodPipelineConfig(method, config); fpfh uses `fpfh`;
 // sift / orb use `features` with detector = method.
-// Builds one Pipeline at once, so a bad config or missing model throws here. The factory is
-// called once per runner thread.
+// Builds the one Pipeline (models loaded once) and prepared-scan cache that every instance shares,
+// so a bad config or missing model throws here. The factory is called once per runner thread.
 MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,
                                 const FpfhConfig& fpfh,
-                                const FeatureBaselineConfig& features = FeatureBaselineConfig());
+                                const FeatureBaselineConfig& features = FeatureBaselineConfig(),
+                                const PreparedCacheOptions& cache = PreparedCacheOptions());
 
 // One pass of the sift / orb baseline, exposed for tests.
 MethodOutput RunFeatureBaseline(const FeatureBaselineConfig& config, const Scan& source,

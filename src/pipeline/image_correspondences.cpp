@@ -45,19 +45,4 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
   }
 }
 
-CorrespondenceSet ImageCorrespondenceSource::Find(const Scan& source, const Scan& target,
-                                                  StageTimer& timer) const {
-  CorrespondenceSet result;
-  timer.Restart();
-  std::vector<LiftedFeatures> s, t;
-  for (const View& view : source.views) s.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
-  for (const View& view : target.views) t.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
-  result.num_keypoints_source = CountKeypoints(s);
-  result.num_keypoints_target = CountKeypoints(t);
-  timer.Mark("features");
-  MatchWholeImages(s, t, matcher_, all_view_pairs_, &result.correspondences);
-  timer.Mark("match");
-  return result;
-}
-
 }  // namespace zeroreg

@@ -6,7 +6,6 @@
 
 #include "estimate/lift.hpp"
 #include "features/feature_extractor.hpp"
-#include "pipeline/correspondence_source.hpp"
 #include "point_match/descriptor_matcher.hpp"
 
 namespace zeroreg {
@@ -27,20 +26,5 @@ int CountKeypoints(const std::vector<LiftedFeatures>& views);
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
                       bool all_view_pairs, std::vector<Correspondence>* out);
-
-class ImageCorrespondenceSource : public CorrespondenceSource {
- public:
-  ImageCorrespondenceSource(const FeatureExtractor& extractor, const DescriptorMatcher& matcher,
-                            const LiftConfig& lift, bool all_view_pairs)
-      : extractor_(extractor), matcher_(matcher), lift_(lift), all_view_pairs_(all_view_pairs) {}
-  std::string name() const override { return "image"; }
-  CorrespondenceSet Find(const Scan& source, const Scan& target, StageTimer& timer) const override;
-
- private:
-  const FeatureExtractor& extractor_;
-  const DescriptorMatcher& matcher_;
-  LiftConfig lift_;
-  bool all_view_pairs_;
-};
 
 }  // namespace zeroreg

@@ -219,6 +219,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("verify", c.verify);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
+  v("threads", c.threads, Between(1, 64));
 }
 
 class JsonWriter {

@@ -149,6 +149,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
       if (embedder_ != nullptr && o.semantic.size() == 0) {
+        std::lock_guard<std::mutex> lock(embedder_mutex_);
         if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();
       }
       out.objects.observations.push_back(std::move(o));
@@ -158,22 +159,23 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
   timer.Restart();
   out.objects.objects = AssociateObservations(out.objects.observations,
                                               static_cast<int>(scan.views.size()), config_.objects);
+  // Which keypoints each observation's mask holds depends on this scan alone: found once here,
+  // not once per object pair and per registration the scan is in.
+  for (const ObjectObservation& o : out.objects.observations) {
+    out.observation_rows.push_back(KeypointsInside(out.view_features[o.view].features, o.mask));
+  }
+  out.object_summaries = Summarise(out.objects);
+  out.num_keypoints = CountKeypoints(out.view_features);
   timer.Mark("objects");
   return out;
 }
 
-CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Scan& target,
-                                                   StageTimer& timer) const {
-  // Shared so that the whole-image fallback can use the same features later, if needed.
-  const auto perceived_s = std::make_shared<const PerceivedScan>(Perceive(source, timer));
-  const auto perceived_t = std::make_shared<const PerceivedScan>(Perceive(target, timer));
+CorrespondenceSet ObjectCorrespondenceSource::Find(
+    const std::shared_ptr<const PerceivedScan>& perceived_s,
+    const std::shared_ptr<const PerceivedScan>& perceived_t, StageTimer& timer) const {
   const PerceivedScan& s = *perceived_s;
   const PerceivedScan& t = *perceived_t;
   CorrespondenceSet result;
-  result.num_keypoints_source = CountKeypoints(s.view_features);
-  result.num_keypoints_target = CountKeypoints(t.view_features);
-  result.source_objects = Summarise(s.objects);
-  result.target_objects = Summarise(t.objects);
   const std::vector<SceneObject>& objects_s = s.objects.objects;
   const std::vector<SceneObject>& objects_t = t.objects.objects;
 
@@ -230,8 +232,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(const Scan& source, const Sca
       if (os == nullptr || ot == nullptr) continue;
       const LiftedFeatures& fs = s.view_features[v];
       const LiftedFeatures& ft = t.view_features[v];
-      const std::vector<int> rows_s = KeypointsInside(fs.features, os->mask);
-      const std::vector<int> rows_t = KeypointsInside(ft.features, ot->mask);
+      const std::vector<int>& rows_s = s.observation_rows[os - s.objects.observations.data()];
+      const std::vector<int>& rows_t = t.observation_rows[ot - t.objects.observations.data()];
       const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
       for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors)) {
         const int a = rows_s[m.source], b = rows_t[m.target];

@@ -10,24 +10,18 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
 
 #include "detect/detector.hpp"
 #include "features/feature_extractor.hpp"
 #include "objects/scene_objects.hpp"
 #include "pipeline/correspondence_source.hpp"
-#include "pipeline/image_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
 #include "segment/segmenter.hpp"
 #include "semantics/text_embedder.hpp"
 #include "zeroreg/config.hpp"
 
 namespace zeroreg {
-
-// Everything perceived in one scan: per-view features (with 3D) and the scan's objects.
-struct PerceivedScan {
-  std::vector<LiftedFeatures> view_features;
-  SceneObjects objects;
-};
 
 class ObjectCorrespondenceSource : public CorrespondenceSource {
  public:
@@ -36,9 +30,10 @@ class ObjectCorrespondenceSource : public CorrespondenceSource {
                              Detector& detector, Segmenter& segmenter, TextEmbedder* embedder,
                              const DescriptorMatcher& matcher);
   std::string name() const override { return "object"; }
-  CorrespondenceSet Find(const Scan& source, const Scan& target, StageTimer& timer) const override;
-
-  PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const;
+  PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const override;
+  CorrespondenceSet Find(const std::shared_ptr<const PerceivedScan>& source,
+                         const std::shared_ptr<const PerceivedScan>& target,
+                         StageTimer& timer) const override;
 
  private:
   const PipelineConfig& config_;
@@ -46,6 +41,7 @@ class ObjectCorrespondenceSource : public CorrespondenceSource {
   Detector& detector_;
   Segmenter& segmenter_;
   TextEmbedder* embedder_;
+  mutable std::mutex embedder_mutex_;  // TextEmbedder::Embed is not thread-safe (its warnings)
   const DescriptorMatcher& matcher_;
 };
 

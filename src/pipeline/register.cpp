@@ -2,8 +2,13 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cstdio>
+#include <exception>
+#include <future>
 #include <sstream>
+#include <stdexcept>
 
 #include "estimate/icp.hpp"
 #include "estimate/lift.hpp"
@@ -11,7 +16,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
-#include "pipeline/image_correspondences.hpp"
+#include "pipeline/image_source.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
 #include "verify/verify.hpp"
@@ -20,7 +25,36 @@
 #include "zeroreg/json.hpp"
 
 namespace zeroreg {
+
+// What Pipeline::Prepare keeps of one scan.
+struct PreparedScan::Data {
+  std::uint64_t pipeline_id = 0;  // the Pipeline that made it (its config decided all of it)
+  Scan scan;
+  std::shared_ptr<const PerceivedScan> perceived;  // features, detections, masks, objects
+  std::vector<SurfacePoint> surface;               // verification samples (verify.enabled)
+  IcpGeometry icp;                                 // ICP clouds per resolution (refine.enabled)
+  std::vector<StageTime> timings;
+  std::size_t memory_bytes = 0;
+};
+
+PreparedScan::PreparedScan() = default;
+PreparedScan::~PreparedScan() = default;
+PreparedScan::PreparedScan(const PreparedScan&) = default;
+PreparedScan& PreparedScan::operator=(const PreparedScan&) = default;
+bool PreparedScan::empty() const { return data_ == nullptr; }
+const Scan& PreparedScan::scan() const {
+  if (!data_) throw std::logic_error("PreparedScan::scan() called on an empty prepared scan");
+  return data_->scan;
+}
+const std::vector<StageTime>& PreparedScan::timings() const {
+  static const std::vector<StageTime> kNone;
+  return data_ ? data_->timings : kNone;
+}
+std::size_t PreparedScan::MemoryBytes() const { return data_ ? data_->memory_bytes : 0; }
+
 namespace {
+
+using Prepared = PreparedScan::Data;
 
 // The core trusts its inputs; this is the boundary check for scans built by callers (C++ or
 // Python), with messages that name the scan and view.
@@ -159,11 +193,12 @@ int CountWithin(const RegistrationResult& r, const Transform& T, double distance
 // Records the check of r->T_target_source as a candidate named `name` and folds it into the
 // verdict: with verification on, the count test of DecideVerdict is the evidence that an estimate
 // exists, and `valid` additionally needs the scans to agree under it.
-void ApplyVerification(const Scan& source, const Scan& target, const PipelineConfig& config,
+void ApplyVerification(const Prepared& source, const Prepared& target, const PipelineConfig& config,
                        const std::string& name, RegistrationResult* r) {
   if (!config.verify.enabled) return;
   const bool evidence = r->count_test_passed;
-  r->verification = VerifyRegistration(source, target, r->T_target_source, config.verify);
+  r->verification = VerifyRegistration(source.scan, source.surface, target.scan, target.surface,
+                                       r->T_target_source, config.verify);
   r->candidates.push_back(
       {name, r->T_target_source, r->verification.score, evidence && r->verification.passed, false});
   if (!evidence) return;  // the count reason stands
@@ -177,7 +212,7 @@ void ApplyVerification(const Scan& source, const Scan& target, const PipelineCon
 // of both scans' geometry, so where it slides (along a plane, pulled by surface one scan sees
 // alone) the scans agree less or the image evidence is left behind, and the estimate stays. Without
 // verification ICP is kept.
-void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeline,
+void Refine(const Prepared& source, const Prepared& target, const PipelineConfig& pipeline,
             RegistrationResult* r) {
   const RefineConfig& config = pipeline.refine;
   IcpAnchors anchors;
@@ -196,10 +231,8 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
       stage.anchor_weight = std::max(stage.anchor_weight, config.anchor_weight_coarse);
     }
   }
-  // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
-  const IcpResult icp =
-      RefinePointToPlane(ScanPoints(source, /*stride=*/2), ScanPoints(target, /*stride=*/2),
-                         r->T_target_source, stages, anchors);
+  const IcpResult icp = RefinePointToPlane(source.icp, target.icp, r->T_target_source, stages,
+                                           anchors, pipeline.threads);
   const double moved_m = TranslationErrorM(icp.T_target_source, r->T_target_source);
   const double turned_deg = RotationErrorDeg(icp.T_target_source, r->T_target_source);
   RegistrationResult refined = *r;
@@ -208,7 +241,8 @@ void Refine(const Scan& source, const Scan& target, const PipelineConfig& pipeli
   char note[320];
   if (pipeline.verify.enabled) {
     refined.verification =
-        VerifyRegistration(source, target, refined.T_target_source, pipeline.verify);
+        VerifyRegistration(source.scan, source.surface, target.scan, target.surface,
+                           refined.T_target_source, pipeline.verify);
     refined.candidates.push_back({r->path + " icp", refined.T_target_source,
                                   refined.verification.score, refined.verification.passed, false});
     r->candidates = refined.candidates;
@@ -269,16 +303,115 @@ bool NeedsAssets(const PipelineConfig& c) {
   return c.detector.backend != "file" || c.method.clip || c.segmenter.backend == "sam";
 }
 
+// Heap bytes of what a prepared scan holds (images, points, features, masks, clouds).
+std::size_t PreparedBytes(const Prepared& p) {
+  std::size_t bytes = p.scan.points.size() * sizeof(Eigen::Vector3d) +
+                      p.scan.colors.size() * sizeof(Eigen::Vector3d);
+  for (const View& v : p.scan.views) {
+    bytes += v.color.total() * v.color.elemSize() + v.depth.total() * v.depth.elemSize();
+  }
+  for (const LiftedFeatures& f : p.perceived->view_features) {
+    bytes += f.features.keypoints.size() * (sizeof(Eigen::Vector2f) + sizeof(float)) +
+             static_cast<std::size_t>(f.features.descriptors.size()) * sizeof(float) +
+             f.points.size() * sizeof(Eigen::Vector3d);
+  }
+  for (const ObjectObservation& o : p.perceived->objects.observations) {
+    bytes += o.mask.total() * o.mask.elemSize() + o.points.size() * sizeof(Eigen::Vector3d);
+  }
+  for (const SceneObject& o : p.perceived->objects.objects) {
+    bytes += o.points.size() * sizeof(Eigen::Vector3d);
+  }
+  for (const auto& rows : p.perceived->observation_rows) bytes += rows.size() * sizeof(int);
+  bytes += p.surface.size() * sizeof(SurfacePoint) + p.icp.MemoryBytes();
+  return bytes;
+}
+
+double MillisecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Runs `a` on a new thread and `b` on this one when `parallel`, else `a` then `b`. An exception of
+// `a` is rethrown first either way, so the error reported does not depend on the thread count.
+template <typename A, typename B>
+void RunBoth(bool parallel, const A& a, const B& b) {
+  if (!parallel) {
+    a();
+    b();
+    return;
+  }
+  std::future<void> pending = std::async(std::launch::async, a);
+  std::exception_ptr b_error;
+  try {
+    b();
+  } catch (...) {
+    b_error = std::current_exception();
+  }
+  pending.get();
+  if (b_error) std::rethrow_exception(b_error);
+}
+
+std::atomic<std::uint64_t> g_next_pipeline_id{1};
+
 }  // namespace
 
 struct Pipeline::Impl {
   PipelineConfig config;
+  std::uint64_t id = g_next_pipeline_id++;
   std::unique_ptr<FeatureExtractor> extractor;
   std::unique_ptr<DescriptorMatcher> matcher;
   std::unique_ptr<Detector> detector;
   std::unique_ptr<Segmenter> segmenter;
   std::unique_ptr<TextEmbedder> embedder;
-  std::unique_ptr<CorrespondenceSource> source;
+  std::unique_ptr<CorrespondenceSource> correspondence_source;
+
+  // Prepare without the input check (the caller made it, naming the scan's role). A scan that
+  // will only be a source (Register(scan, scan)) skips what only a target needs (ICP normals).
+  std::shared_ptr<const Prepared> PrepareChecked(const Scan& scan, bool as_target = true) const {
+    auto p = std::make_shared<Prepared>();
+    p->pipeline_id = id;
+    p->scan = scan;
+    StageTimer perceive_timer, geometry_timer;
+    const auto perceive = [&] {
+      p->perceived = std::make_shared<const PerceivedScan>(
+          correspondence_source->Perceive(scan, perceive_timer));
+    };
+    // The geometry of the later stages depends on depth alone: it is made while the models look
+    // at the images.
+    const auto geometry = [&] {
+      geometry_timer.Restart();
+      if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
+      // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
+      if (config.refine.enabled) {
+        p->icp = IcpGeometry(ScanPoints(scan, /*stride=*/2), IcpSchedule(config.refine), as_target);
+      }
+      geometry_timer.Mark("geometry");
+    };
+    RunBoth(config.threads >= 2, perceive, geometry);
+    p->timings = perceive_timer.times();
+    for (const StageTime& t : geometry_timer.times()) p->timings.push_back(t);
+    p->memory_bytes = PreparedBytes(*p);
+    return p;
+  }
+
+  const Prepared& Check(const std::shared_ptr<const Prepared>& data,
+                        const std::string& role) const {
+    if (!data) {
+      throw MakeInputError(role + " prepared scan",
+                           "is empty; expected the result of Pipeline::Prepare");
+    }
+    if (data->pipeline_id != id) {
+      throw MakeInputError(role + " prepared scan '" + data->scan.name + "'",
+                           "was prepared by another Pipeline; expected one prepared by this "
+                           "Pipeline (its config decided the features, objects and clouds)");
+    }
+    return *data;
+  }
+
+  // Everything after Prepare: §3.3-3.4 correspondences, RANSAC, verification, ICP.
+  RegistrationResult RegisterPrepared(const std::shared_ptr<const Prepared>& source_ptr,
+                                      const std::shared_ptr<const Prepared>& target_ptr,
+                                      StageTimer& timer) const;
 };
 
 Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>()) {
@@ -291,7 +424,7 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   m.extractor = MakeFeatureExtractor(config.features, assets, config.inference);
   m.matcher = MakeDescriptorMatcher(config.match);
   if (!config.method.object_level) {
-    m.source = std::make_unique<ImageCorrespondenceSource>(
+    m.correspondence_source = std::make_unique<ImageCorrespondenceSource>(
         *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs);
     return;
   }
@@ -301,7 +434,7 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   segmenter.seed = config.seed;  // every random step derives its seed from the pipeline's
   m.segmenter = MakeSegmenter(segmenter, assets, config.inference);
   if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
-  m.source = std::make_unique<ObjectCorrespondenceSource>(
+  m.correspondence_source = std::make_unique<ObjectCorrespondenceSource>(
       m.config, *m.extractor, *m.detector, *m.segmenter, m.embedder.get(), *m.matcher);
 }
 
@@ -309,19 +442,19 @@ Pipeline::~Pipeline() = default;
 
 const PipelineConfig& Pipeline::config() const { return impl_->config; }
 
-RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) const {
-  CheckScan(source, "source");
-  CheckScan(target, "target");
-  const PipelineConfig& config = impl_->config;
-  StageTimer timer;
+RegistrationResult Pipeline::Impl::RegisterPrepared(
+    const std::shared_ptr<const Prepared>& source_ptr,
+    const std::shared_ptr<const Prepared>& target_ptr, StageTimer& timer) const {
+  const Prepared& source = *source_ptr;
+  const Prepared& target = *target_ptr;
   RegistrationResult result;
-  CorrespondenceSet found = impl_->source->Find(source, target, timer);
-  result.path = found.path.empty() ? impl_->source->name() : found.path;
-  result.source_objects = std::move(found.source_objects);
-  result.target_objects = std::move(found.target_objects);
+  CorrespondenceSet found = correspondence_source->Find(source.perceived, target.perceived, timer);
+  result.path = found.path.empty() ? correspondence_source->name() : found.path;
+  result.source_objects = source.perceived->object_summaries;
+  result.target_objects = target.perceived->object_summaries;
   result.object_matches = std::move(found.object_matches);
-  result.num_keypoints_source = found.num_keypoints_source;
-  result.num_keypoints_target = found.num_keypoints_target;
+  result.num_keypoints_source = source.perceived->num_keypoints;
+  result.num_keypoints_target = target.perceived->num_keypoints;
   timer.Restart();
   // Row (b) of Table 4 judges a handful of centroid pairs, each off by up to a few decimetres;
   // every later step (fallback, refinement) uses the same effective thresholds.
@@ -370,10 +503,47 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
   }
-  double total = 0;
-  for (const StageTime& t : timer.times()) total += t.ms;
+  return result;
+}
+
+PreparedScan Pipeline::Prepare(const Scan& scan) const {
+  CheckScan(scan, "prepared");
+  PreparedScan out;
+  out.data_ = impl_->PrepareChecked(scan);
+  return out;
+}
+
+RegistrationResult Pipeline::Register(const PreparedScan& source,
+                                      const PreparedScan& target) const {
+  const auto start = std::chrono::steady_clock::now();
+  impl_->Check(source.data_, "source");
+  impl_->Check(target.data_, "target");
+  StageTimer timer;
+  RegistrationResult result = impl_->RegisterPrepared(source.data_, target.data_, timer);
   result.timings = timer.times();
-  result.timings.push_back({"total", total});
+  result.timings.push_back({"total", MillisecondsSince(start)});
+  return result;
+}
+
+RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) const {
+  const auto start = std::chrono::steady_clock::now();
+  CheckScan(source, "source");
+  CheckScan(target, "target");
+  // The two scans' perception is independent: with two threads each scan is prepared on its own
+  // (the models serialise their inference, so one scan's detector overlaps the other's features).
+  std::shared_ptr<const Prepared> s, t;
+  RunBoth(
+      impl_->config.threads >= 2, [&] { s = impl_->PrepareChecked(source, /*as_target=*/false); },
+      [&] { t = impl_->PrepareChecked(target); });
+  StageTimer timer;
+  // Per-scan stages first, summed over both scans (when they ran at once they add up to more
+  // than the wall time), then the per-pair stages; "total" is the wall time of the call.
+  for (const Prepared* p : {s.get(), t.get()}) {
+    for (const StageTime& st : p->timings) timer.Add(st.stage, st.ms);
+  }
+  RegistrationResult result = impl_->RegisterPrepared(s, t, timer);
+  result.timings = timer.times();
+  result.timings.push_back({"total", MillisecondsSince(start)});
   return result;
 }
 

@@ -25,50 +25,9 @@ struct GeometricAgreement {
   double overlap = 0.0, overlap_max = 0.0, violation = 0.0, residual_rms_m = 0.0, score = 0.0;
 };
 
-// A sampled depth pixel of a scan: its point and surface normal in the scan frame.
-struct SurfacePoint {
-  Eigen::Vector3d point;
-  Eigen::Vector3d normal;  // zero when the neighbourhood gave none
-};
-
 // Camera point of pixel (x, y) at depth z.
 Eigen::Vector3d CameraPoint(const Intrinsics& K, double x, double y, double z) {
   return {(x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z};
-}
-
-// Every config.pixel_stride-th valid depth pixel of every view, off depth edges, with a normal
-// from the 4-neighbours 2 px away (the same neighbours that decide the edge test).
-std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config) {
-  std::vector<SurfacePoint> out;
-  const int stride = std::max(1, config.pixel_stride);
-  constexpr int kStep = 2;
-  for (const View& view : scan.views) {
-    const cv::Mat& depth = view.depth;
-    const Intrinsics& K = view.intrinsics;
-    const Eigen::Matrix3d R = view.T_scan_camera.topLeftCorner<3, 3>();
-    const Eigen::Vector3d t = view.T_scan_camera.topRightCorner<3, 1>();
-    for (int y = kStep; y + kStep < depth.rows; y += stride) {
-      for (int x = kStep; x + kStep < depth.cols; x += stride) {
-        const double z = depth.at<float>(y, x);
-        if (!(z >= config.min_depth_m && z <= config.max_depth_m)) continue;
-        const double left = depth.at<float>(y, x - kStep), right = depth.at<float>(y, x + kStep);
-        const double up = depth.at<float>(y - kStep, x), down = depth.at<float>(y + kStep, x);
-        const double limit = config.depth_edge_relative * z;
-        bool edge = false;
-        for (double n : {left, right, up, down}) edge |= !(n > 0) || std::abs(n - z) > limit;
-        if (edge) continue;
-        const Eigen::Vector3d dx =
-            CameraPoint(K, x + kStep, y, right) - CameraPoint(K, x - kStep, y, left);
-        const Eigen::Vector3d dy =
-            CameraPoint(K, x, y + kStep, down) - CameraPoint(K, x, y - kStep, up);
-        Eigen::Vector3d normal = dx.cross(dy);
-        const double norm = normal.norm();
-        normal = norm > 0 ? Eigen::Vector3d(R * normal / norm) : Eigen::Vector3d::Zero();
-        out.push_back({R * CameraPoint(K, x, y, z) + t, normal});
-      }
-    }
-  }
-  return out;
 }
 
 double Tolerance(const VerifyConfig& c, double d) {
@@ -222,13 +181,55 @@ Transform WeakestMotion(const std::vector<SurfacePoint>& agreeing, double distan
 
 }  // namespace
 
+// The normal comes from the 4-neighbours 2 px away (the same neighbours that decide the edge test).
+std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config) {
+  std::vector<SurfacePoint> out;
+  const int stride = std::max(1, config.pixel_stride);
+  constexpr int kStep = 2;
+  for (const View& view : scan.views) {
+    const cv::Mat& depth = view.depth;
+    const Intrinsics& K = view.intrinsics;
+    const Eigen::Matrix3d R = view.T_scan_camera.topLeftCorner<3, 3>();
+    const Eigen::Vector3d t = view.T_scan_camera.topRightCorner<3, 1>();
+    for (int y = kStep; y + kStep < depth.rows; y += stride) {
+      for (int x = kStep; x + kStep < depth.cols; x += stride) {
+        const double z = depth.at<float>(y, x);
+        if (!(z >= config.min_depth_m && z <= config.max_depth_m)) continue;
+        const double left = depth.at<float>(y, x - kStep), right = depth.at<float>(y, x + kStep);
+        const double up = depth.at<float>(y - kStep, x), down = depth.at<float>(y + kStep, x);
+        const double limit = config.depth_edge_relative * z;
+        bool edge = false;
+        for (double n : {left, right, up, down}) edge |= !(n > 0) || std::abs(n - z) > limit;
+        if (edge) continue;
+        const Eigen::Vector3d dx =
+            CameraPoint(K, x + kStep, y, right) - CameraPoint(K, x - kStep, y, left);
+        const Eigen::Vector3d dy =
+            CameraPoint(K, x, y + kStep, down) - CameraPoint(K, x, y - kStep, up);
+        Eigen::Vector3d normal = dx.cross(dy);
+        const double norm = normal.norm();
+        normal = norm > 0 ? Eigen::Vector3d(R * normal / norm) : Eigen::Vector3d::Zero();
+        out.push_back({R * CameraPoint(K, x, y, z) + t, normal});
+      }
+    }
+  }
+  return out;
+}
+
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
+                                      const Transform& T_target_source,
+                                      const VerifyConfig& config) {
+  return VerifyRegistration(source, SampleSurface(source, config), target,
+                            SampleSurface(target, config), T_target_source, config);
+}
+
+VerificationResult VerifyRegistration(const Scan& source,
+                                      const std::vector<SurfacePoint>& source_points,
+                                      const Scan& target,
+                                      const std::vector<SurfacePoint>& target_points,
                                       const Transform& T_target_source,
                                       const VerifyConfig& config) {
   VerificationResult v;
   v.ran = true;
-  const std::vector<SurfacePoint> source_points = SampleSurface(source, config);
-  const std::vector<SurfacePoint> target_points = SampleSurface(target, config);
   v.source_samples = static_cast<int>(source_points.size());
   v.target_samples = static_cast<int>(target_points.size());
   char why[400];

@@ -16,6 +16,7 @@
 // Depends on Eigen and OpenCV core only (the views' depth images).
 #pragma once
 
+#include <Eigen/Core>
 #include <string>
 #include <vector>
 
@@ -24,8 +25,26 @@
 
 namespace zeroreg {
 
+// A sampled depth pixel of a scan: its point and surface normal in the scan frame.
+struct SurfacePoint {
+  Eigen::Vector3d point;
+  Eigen::Vector3d normal;  // zero when the neighbourhood gave none
+};
+
+// Every config.pixel_stride-th valid depth pixel of every view of `scan`, off depth edges, with a
+// normal: the samples one scan contributes to every check it is in (computed once per scan by
+// Pipeline::Prepare, not once per candidate).
+std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config);
+
 // Renders both scans into each other under T_target_source (see the file comment), runs the
 // degeneracy probe and applies the thresholds of VerifyConfig (types.hpp documents the fields).
+// The samples are SampleSurface of each scan with the same config.
+VerificationResult VerifyRegistration(const Scan& source,
+                                      const std::vector<SurfacePoint>& source_samples,
+                                      const Scan& target,
+                                      const std::vector<SurfacePoint>& target_samples,
+                                      const Transform& T_target_source, const VerifyConfig& config);
+// The same, sampling both scans first.
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
                                       const Transform& T_target_source, const VerifyConfig& config);
 

@@ -81,6 +81,32 @@ TEST(Icp, ExactStartStaysPutAndDeterministic) {
   EXPECT_TRUE((a.T_target_source.array() == b.T_target_source.array()).all());
 }
 
+TEST(Icp, ThreadCountDoesNotChangeOneBitAndPreparedGeometryIsReusable) {
+  // 1 cm sampling: ~60k points, 2 cm voxels keep enough that the search is really split.
+  const std::vector<Eigen::Vector3d> target = RoomCorner(0.01);
+  const Transform gt = Motion(4.0, {0.3, 1.0, 0.2}, {0.08, -0.05, 0.06});
+  std::vector<Eigen::Vector3d> source = Moved(target, gt.inverse());
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.003);
+  for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig());
+  const IcpGeometry source_geometry(source, stages), target_geometry(target, stages);
+  ASSERT_GT(source_geometry.NumPoints(RefineConfig().voxel_m), 4096u);
+  const IcpResult one = RefinePointToPlane(source_geometry, target_geometry, Transform::Identity(),
+                                           stages, {}, /*threads=*/1);
+  EXPECT_LT(TranslationErrorM(one.T_target_source, gt), 0.003);  // and it is right
+  for (int threads : {2, 3, 8}) {
+    const IcpResult many = RefinePointToPlane(source_geometry, target_geometry,
+                                              Transform::Identity(), stages, {}, threads);
+    EXPECT_TRUE((one.T_target_source.array() == many.T_target_source.array()).all()) << threads;
+    EXPECT_EQ(one.iterations, many.iterations);
+    EXPECT_EQ(one.fitness, many.fitness);
+  }
+  // The raw-point form builds the same geometry: the same bits.
+  const IcpResult raw = RefinePointToPlane(source, target, Transform::Identity(), stages);
+  EXPECT_TRUE((one.T_target_source.array() == raw.T_target_source.array()).all());
+}
+
 TEST(Icp, TooFewPointsReturnTheStartUnchanged) {
   const std::vector<Eigen::Vector3d> three = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
   const Transform start = Motion(5.0, {1, 0, 0}, {0.1, 0, 0});

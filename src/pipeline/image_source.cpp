@@ -1,0 +1,27 @@
+#include "pipeline/image_source.hpp"
+
+namespace zeroreg {
+
+PerceivedScan ImageCorrespondenceSource::Perceive(const Scan& scan, StageTimer& timer) const {
+  PerceivedScan out;
+  timer.Restart();
+  for (const View& view : scan.views) {
+    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
+  }
+  out.num_keypoints = CountKeypoints(out.view_features);
+  timer.Mark("features");
+  return out;
+}
+
+CorrespondenceSet ImageCorrespondenceSource::Find(
+    const std::shared_ptr<const PerceivedScan>& source,
+    const std::shared_ptr<const PerceivedScan>& target, StageTimer& timer) const {
+  CorrespondenceSet result;
+  timer.Restart();
+  MatchWholeImages(source->view_features, target->view_features, matcher_, all_view_pairs_,
+                   &result.correspondences);
+  timer.Mark("match");
+  return result;
+}
+
+}  // namespace zeroreg

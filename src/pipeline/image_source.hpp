@@ -1,0 +1,28 @@
+// The whole-image correspondence source (paper Table 4 row (a), "w/o Object-Level"): every view's
+// features over the full image, matched as MatchWholeImages does.
+#pragma once
+
+#include "pipeline/correspondence_source.hpp"
+#include "pipeline/image_correspondences.hpp"
+
+namespace zeroreg {
+
+class ImageCorrespondenceSource : public CorrespondenceSource {
+ public:
+  ImageCorrespondenceSource(const FeatureExtractor& extractor, const DescriptorMatcher& matcher,
+                            const LiftConfig& lift, bool all_view_pairs)
+      : extractor_(extractor), matcher_(matcher), lift_(lift), all_view_pairs_(all_view_pairs) {}
+  std::string name() const override { return "image"; }
+  PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const override;
+  CorrespondenceSet Find(const std::shared_ptr<const PerceivedScan>& source,
+                         const std::shared_ptr<const PerceivedScan>& target,
+                         StageTimer& timer) const override;
+
+ private:
+  const FeatureExtractor& extractor_;
+  const DescriptorMatcher& matcher_;
+  LiftConfig lift_;
+  bool all_view_pairs_;
+};
+
+}  // namespace zeroreg
