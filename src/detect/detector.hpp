@@ -19,7 +19,6 @@ struct Detection {
   int class_id = -1;   // row in the backend's class list; -1 when unknown (file backend)
 };
 
-
 // Model files, already resolved and verified by the caller (the pipeline); only those of the
 // chosen backend are read.
 struct DetectorModelPaths {
@@ -28,6 +27,8 @@ struct DetectorModelPaths {
   std::string darknet_cfg;      // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg
   std::string darknet_weights;  // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights
   std::string darknet_classes;  // yolo_fastest_1.1_xl_coco/coco_classes.txt
+  std::string picodet_onnx;     // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx (Clip rewritten)
+  std::string picodet_classes;  // picodet_s_416_coco/coco.names (VOC spellings, mapped on load)
 };
 
 class Detector {
