@@ -32,7 +32,8 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
   }
   if (config.backend == "ensemble") {
     std::vector<std::unique_ptr<Detector>> members;
-    members.push_back(std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config));
+    members.push_back(
+        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config));
     members.push_back(
         std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_classes, config));
     return std::make_unique<EnsembleDetector>(std::move(members), config);

@@ -13,8 +13,8 @@
 namespace zeroreg {
 
 struct Detection {
-  cv::Rect2f box;     // pixels in the original image, (x, y) = top-left corner
-  std::string label;  // category name, COCO spelling for the built-in backends ("dining table")
+  cv::Rect2f box;      // pixels in the original image, (x, y) = top-left corner
+  std::string label;   // category name, COCO spelling for the built-in backends ("dining table")
   float score = 0.0f;  // confidence in [0, 1]
   int class_id = -1;   // row in the backend's class list; -1 when unknown (file backend)
 };
@@ -27,7 +27,7 @@ struct DetectorModelPaths {
   std::string darknet_cfg;      // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg
   std::string darknet_weights;  // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights
   std::string darknet_classes;  // yolo_fastest_1.1_xl_coco/coco_classes.txt
-  std::string picodet_onnx;     // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx (Clip rewritten)
+  std::string picodet_onnx;  // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx (Clip rewritten)
   std::string picodet_classes;  // picodet_s_416_coco/coco.names (VOC spellings, mapped on load)
 };
 

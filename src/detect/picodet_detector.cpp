@@ -12,8 +12,8 @@ namespace detail {
 
 cv::Mat PicodetInput(const cv::Mat& bgr, PicodetLetterbox* letterbox) {
   const int size = kPicodetInputSize;
-  const double scale = std::min(static_cast<double>(size) / bgr.rows,
-                                static_cast<double>(size) / bgr.cols);
+  const double scale =
+      std::min(static_cast<double>(size) / bgr.rows, static_cast<double>(size) / bgr.cols);
   const int w = std::clamp(static_cast<int>(std::lround(bgr.cols * scale)), 1, size);
   const int h = std::clamp(static_cast<int>(std::lround(bgr.rows * scale)), 1, size);
   cv::Mat resized;
@@ -163,16 +163,14 @@ std::vector<Detection> PicodetDetector::Detect(const cv::Mat& bgr, const std::st
   detail::RequireBgrImage(bgr, image_name);
   detail::PicodetLetterbox letterbox;
   const cv::Mat blob = detail::PicodetInput(bgr, &letterbox);
-  return detail::PicodetDecode(Forward(blob), letterbox, bgr.size(), classes_, config_,
-                               onnx_path_);
+  return detail::PicodetDecode(Forward(blob), letterbox, bgr.size(), classes_, config_, onnx_path_);
 }
 
 EnsembleDetector::EnsembleDetector(std::vector<std::unique_ptr<Detector>> members,
                                    const DetectorConfig& config)
     : members_(std::move(members)), config_(config) {}
 
-std::vector<Detection> EnsembleDetector::Detect(const cv::Mat& bgr,
-                                                const std::string& image_name) {
+std::vector<Detection> EnsembleDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
   // Members in their fixed order, each list by decreasing score: NMS's stable sort then breaks
   // score ties by member order, so the result does not depend on timing or threads.
   std::vector<Detection> all;

@@ -45,9 +45,12 @@ class ZeroregMethod : public PairMethod {
     out.path = r.path;
     out.correspondences = std::move(r.correspondences);
     out.num_inliers = r.num_inliers;
-    for (const ObjectSummary& o : r.source_objects) out.source_object_centroids.push_back(o.centroid);
-    for (const ObjectSummary& o : r.target_objects) out.target_object_centroids.push_back(o.centroid);
-    for (const ObjectMatchSummary& m : r.object_matches) out.object_matches.push_back({m.source, m.target});
+    for (const ObjectSummary& o : r.source_objects)
+      out.source_object_centroids.push_back(o.centroid);
+    for (const ObjectSummary& o : r.target_objects)
+      out.target_object_centroids.push_back(o.centroid);
+    for (const ObjectMatchSummary& m : r.object_matches)
+      out.object_matches.push_back({m.source, m.target});
     out.views_source = static_cast<int>(source.views.size());
     out.views_target = static_cast<int>(target.views.size());
     return out;

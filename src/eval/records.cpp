@@ -94,7 +94,8 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
   for (const auto& [s, t] : output.object_matches) {
     if (s < 0 || t < 0 || s >= r.objects_source || t >= r.objects_target) continue;
     ++r.object_matches;
-    const Eigen::Vector3d moved = (T_gt * output.source_object_centroids[s].homogeneous()).head<3>();
+    const Eigen::Vector3d moved =
+        (T_gt * output.source_object_centroids[s].homogeneous()).head<3>();
     if ((moved - output.target_object_centroids[t]).norm() < kObjectMatchToleranceM) {
       ++r.object_matches_correct;
     }
@@ -140,9 +141,9 @@ json PairRecordToJson(const PairRecord& r) {
          {"num_inliers", r.num_inliers},
          {"time_ms", r.time_ms}};
   if (r.objects_source + r.objects_target + r.object_matches > 0) {
-    j["objects"] = {{"source", r.objects_source},   {"target", r.objects_target},
+    j["objects"] = {{"source", r.objects_source},     {"target", r.objects_target},
                     {"views_source", r.views_source}, {"views_target", r.views_target},
-                    {"matches", r.object_matches},  {"correct", r.object_matches_correct}};
+                    {"matches", r.object_matches},    {"correct", r.object_matches_correct}};
   }
   if (r.recall_error) j["recall_error"] = *r.recall_error;
   if (!r.error.empty()) j["error"] = r.error;

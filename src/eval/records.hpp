@@ -7,8 +7,8 @@
 
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "zeroreg/types.hpp"

@@ -108,8 +108,9 @@ Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
                                const Eigen::MatrixXd& comparable, double appearance_weight) {
   Eigen::MatrixXd C = NodeSimilarity(semantics_source, semantics_target);
   if (!(appearance_weight >= 0.0) || !std::isfinite(appearance_weight)) {
-    throw MakeInputError("object_match.appearance_weight",
-                         "is " + std::to_string(appearance_weight) + ", expected a finite value >= 0");
+    throw MakeInputError(
+        "object_match.appearance_weight",
+        "is " + std::to_string(appearance_weight) + ", expected a finite value >= 0");
   }
   for (const auto* m : {&appearance_cosine, &comparable}) {
     if (m->rows() != C.rows() || m->cols() != C.cols()) {

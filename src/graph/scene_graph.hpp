@@ -10,7 +10,6 @@
 
 namespace zeroreg {
 
-
 // Cosine similarity of two vectors; 0 when either is the zero vector (no semantic evidence).
 double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,
                         const Eigen::Ref<const Eigen::VectorXd>& b);

@@ -16,8 +16,7 @@ constexpr int kMinChromaticSaturation = 48;
 
 Appearance ColourAppearance(const cv::Mat& bgr, const cv::Mat& mask) {
   Appearance out;
-  if (bgr.empty() || mask.size() != bgr.size() || bgr.type() != CV_8UC3 ||
-      mask.type() != CV_8UC1) {
+  if (bgr.empty() || mask.size() != bgr.size() || bgr.type() != CV_8UC3 || mask.type() != CV_8UC1) {
     return out;
   }
   // Only the mask's bounding box is converted: masks cover a few percent of the image.

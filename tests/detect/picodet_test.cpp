@@ -69,14 +69,15 @@ void Peak(float* logits, int k) {
 TEST(PicodetCodec, DecodesOneCellExactly) {
   const std::vector<std::string> classes = {"cat", "dog", "cup"};
   std::vector<cv::Mat> outputs = EmptyOutputs(3);
-  // Stride 16 (26 x 26 cells), cell (i = 5, j = 7): centre (7*16 + 7.5, 5*16 + 7.5) = (119.5, 87.5).
+  // Stride 16 (26 x 26 cells), cell (i = 5, j = 7): centre (7*16 + 7.5, 5*16 + 7.5) =
+  // (119.5, 87.5).
   const int cell = 5 * 26 + 7;
   Find(outputs, 676, 3).ptr<float>()[cell * 3 + 2] = 0.8f;  // "cup"
   float* d = Find(outputs, 676, 32).ptr<float>() + cell * 32;
-  Peak(d, 2);        // left 2 x 16 = 32
-  Peak(d + 8, 1);    // top 16
-  Peak(d + 16, 3);   // right 48
-  Peak(d + 24, 4);   // bottom 64
+  Peak(d, 2);       // left 2 x 16 = 32
+  Peak(d + 8, 1);   // top 16
+  Peak(d + 16, 3);  // right 48
+  Peak(d + 24, 4);  // bottom 64
   // A 640 x 480 image: scale 0.65, 52 rows of padding on top.
   const detail::PicodetLetterbox lb{0.65, 0, 52};
   DetectorConfig config;
@@ -152,7 +153,8 @@ TEST(PicodetLabels, VocSpellingsBecomeCoco) {
 // MANIFEST (picodet_s_416_coco, OpenCV 4.6 DNN with the Clip rewrite), redkitchen frame 0, score
 // > 0.3: chair 0.65, diningtable 0.62, cup 0.56, bottle 0.35, cup 0.33, bench 0.32, chair 0.31,
 // tvmonitor 0.30. The table, the cup and the chair are the objects YOLOX-Nano finds on this frame
-// (boxes checked by drawing them, tests/detect/detector_test.cpp): PicoDet's boxes must lie on them.
+// (boxes checked by drawing them, tests/detect/detector_test.cpp): PicoDet's boxes must lie on
+// them.
 TEST(DetectPicodet, RedkitchenFrame0MatchesManifest) {
   auto det = MakeDetector(Backend("picodet"), ModelPaths());
   EXPECT_EQ(det->name(), "picodet");
@@ -160,7 +162,7 @@ TEST(DetectPicodet, RedkitchenFrame0MatchesManifest) {
   ASSERT_GE(dets.size(), 7u);
   ASSERT_LE(dets.size(), 8u);  // tv at 0.30 sits on the threshold
   const std::vector<std::pair<std::string, float>> expected = {
-      {"chair", 0.65f}, {"dining table", 0.62f}, {"cup", 0.56f}, {"bottle", 0.35f},
+      {"chair", 0.65f}, {"dining table", 0.62f}, {"cup", 0.56f},  {"bottle", 0.35f},
       {"cup", 0.33f},   {"bench", 0.32f},        {"chair", 0.31f}};
   for (size_t i = 0; i < expected.size(); ++i) {
     SCOPED_TRACE(expected[i].first);
@@ -173,8 +175,8 @@ TEST(DetectPicodet, RedkitchenFrame0MatchesManifest) {
   // YOLOX-Nano's verified boxes on this frame (detector_test.cpp).
   EXPECT_GT(IoU(dets[1].box, {203, 152, 435, 328}), 0.7f) << dets[1].box;  // the table
   EXPECT_GT(IoU(dets[2].box, {367, 164, 36, 38}), 0.7f) << dets[2].box;    // the white mug
-  const float chair = std::max(IoU(dets[0].box, {420, 143, 130, 67}),
-                               IoU(dets[0].box, {173, 121, 134, 243}));
+  const float chair =
+      std::max(IoU(dets[0].box, {420, 143, 130, 67}), IoU(dets[0].box, {173, 121, 134, 243}));
   EXPECT_GT(chair, 0.6f) << dets[0].box;
   EXPECT_EQ(dets[2].class_id, 41);  // "cup", the COCO-80 row
 }
