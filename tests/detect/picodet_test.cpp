@@ -229,9 +229,13 @@ TEST(DetectEnsemble, UnionOfBothDetectorsWithoutDuplicates) {
     }
   }
   for (size_t i = 0; i < dets.size(); ++i) {
-    if (i > 0) EXPECT_GE(dets[i - 1].score, dets[i].score);
+    if (i > 0) {
+      EXPECT_GE(dets[i - 1].score, dets[i].score);
+    }
     for (size_t j = i + 1; j < dets.size(); ++j) {
-      if (dets[i].label == dets[j].label) EXPECT_LE(IoU(dets[i].box, dets[j].box), 0.45f);
+      if (dets[i].label == dets[j].label) {
+        EXPECT_LE(IoU(dets[i].box, dets[j].box), 0.45f);
+      }
     }
   }
   // The table: YOLOX's 0.84 beats PicoDet's 0.62.
