@@ -11,9 +11,10 @@ namespace {
 
 TEST(AssetsFetchScript, CopiesVerifiesRepairsAndReportsBadFiles) {
   const std::string script = std::string(ZEROREG_REPO_DIR) + "/tests/assets/fetch_assets_test.sh";
-  // 20 s budget: the script copies ~15 MB twice, hashes it a few times and rewrites the PicoDet
-  // export twice with python3-onnx (about 3 s here, 1 s of it per rewrite under load).
-  const std::string command = "timeout 20 bash '" + script + "'";
+  // 30 s budget: the script copies ~15 MB twice, hashes it a few times and rewrites the PicoDet
+  // export twice with python3-onnx: about 3 s on a quiet machine, 15 s measured with five builds
+  // and benchmarks sharing the 2 cores.
+  const std::string command = "timeout 30 bash '" + script + "'";
   const auto start = std::chrono::steady_clock::now();
   const int status = std::system(command.c_str());
   const double seconds =
@@ -21,9 +22,9 @@ TEST(AssetsFetchScript, CopiesVerifiesRepairsAndReportsBadFiles) {
   ASSERT_TRUE(WIFEXITED(status)) << command << " did not exit normally";
   const int code = WEXITSTATUS(status);
   if (code == 77) GTEST_SKIP() << "../shared/models not available";
-  EXPECT_NE(code, 124) << command << " exceeded its 20 s budget";
+  EXPECT_NE(code, 124) << command << " exceeded its 30 s budget";
   EXPECT_EQ(code, 0) << command << " failed (its output above says which check)";
-  EXPECT_LT(seconds, 20.0);
+  EXPECT_LT(seconds, 30.0);
 }
 
 }  // namespace

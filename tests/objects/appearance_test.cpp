@@ -10,6 +10,7 @@
 
 #include "graph/scene_graph.hpp"
 #include "objects/scene_objects.hpp"
+#include "zeroreg/error.hpp"
 
 namespace zeroreg {
 namespace {
