@@ -257,7 +257,11 @@ TEST_F(AssetsRequire, MalformedListLineIsReportedWithItsLineNumber) {
 }
 
 TEST_F(AssetsRequire, EveryListedModelInTheSharedMirrorVerifies) {
-  // Our SHA-256 against the list (written with coreutils sha256sum) for all 18 real files.
+  // Our SHA-256 against the list (written with coreutils sha256sum) for all 21 real files. The
+  // Clip-rewritten PicoDet export is made by scripts/fetch-assets.sh, not mirrored: it is checked
+  // in the repo's assets/ folder that script fills.
+  const std::string derived = "picodet_s_416_coco/picodet_s_416_coco.opencv.onnx";
+  const std::string repo_assets = std::string(ZEROREG_REPO_DIR) + "/assets";
   std::ifstream list(std::string(ZEROREG_REPO_DIR) + "/scripts/assets.sha256");
   ASSERT_TRUE(list);
   std::string line;
@@ -265,10 +269,11 @@ TEST_F(AssetsRequire, EveryListedModelInTheSharedMirrorVerifies) {
   while (std::getline(list, line)) {
     if (line.empty() || line[0] == '#') continue;
     const std::string rel = line.substr(66);
-    EXPECT_EQ(RequireAsset(SharedModelsDir(), rel), SharedModelsDir() + "/" + rel);
+    const std::string& dir = rel == derived ? repo_assets : SharedModelsDir();
+    EXPECT_EQ(RequireAsset(dir, rel), dir + "/" + rel);
     ++checked;
   }
-  EXPECT_EQ(checked, 18);
+  EXPECT_EQ(checked, 21);
 }
 
 }  // namespace
