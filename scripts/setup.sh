@@ -14,11 +14,12 @@ repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
 
 # chromium: only for the test that opens `zeroreg report` pages headless (tests/viz/).
+# python3-onnx: scripts/fetch-assets.sh rewrites the PicoDet export for OpenCV 4.6 with it.
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   googletest libgtest-dev
-  pybind11-dev python3-dev python3-numpy python3-pytest
+  pybind11-dev python3-dev python3-numpy python3-pytest python3-onnx
   clang-format
   chromium
 )

@@ -101,6 +101,12 @@ struct ObjectMatchConfig {
   // between matched nodes (docs/MATCHING.md). 1 is Eq. 2; 0 leaves only the edge agreement
   // 2 <W^p, X W^q X^T> (Koopmans-Beckmann QAP). Must be >= 0.
   double target_edge_weight = 1.0;
+  // lambda: weight of the appearance term in the node similarity,
+  //   C_jk = 1 + cos(s^p_j, s^q_k) - lambda (1 - cos(a^p_j, a^q_k))   (docs/MATCHING.md)
+  // with a the objects' appearance descriptors (cosine in [0, 1] for the colour histogram): a pair
+  // that looks alike keeps the paper's C, one that does not loses up to lambda. 0 = the paper's C
+  // (appearance off). Pairs without comparable descriptors get no appearance term. Must be >= 0.
+  double appearance_weight = 0.0;
   // kAuto uses the exact solver up to this many partial injections (the leaves of its search
   // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
   // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
@@ -114,7 +120,9 @@ struct ObjectMatchConfig {
 
 // Object detection (paper §3.2, "Object Detection and Segmentation").
 struct DetectorConfig {
-  std::string backend = "yolox";  // "yolox" (default), "darknet" or "file"
+  // "yolox" (default), "picodet" (PP-PicoDet-S 416), "ensemble" (YOLOX-Nano + PicoDet, pooled
+  // and per-class NMS with nms_iou across both), "darknet" or "file".
+  std::string backend = "yolox";
   // Detections scoring below this are dropped. YOLOX/Yolo-Fastest: score = objectness * class
   // probability; 0.3 is the threshold the model MANIFESTs were checked with.
   double score_threshold = 0.3;
@@ -324,6 +332,10 @@ struct ObjectsConfig {
   double compatible_label_cosine = 0.9;
   // Object point sets are thinned to one point per voxel of this edge.
   double point_voxel_m = 0.02;
+  // Two observations whose appearance descriptors (src/objects/appearance.hpp; cosine = the
+  // Bhattacharyya coefficient of their colour histograms, in [0, 1]) are less similar than this
+  // are not merged, whatever their labels and overlap. 0 = appearance not used (docs/MATCHING.md).
+  double association_min_appearance = 0.0;
 };
 
 // Which parts of the method run. The paper's Table 4 ablation rows are switches here.

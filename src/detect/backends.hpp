@@ -2,6 +2,7 @@
 // by the pipeline) and throws InputError naming the file when it cannot be loaded.
 #pragma once
 
+#include <memory>
 #include <mutex>
 #include <opencv2/dnn.hpp>
 #include <string>
@@ -29,6 +30,44 @@ class YoloxDetector : public Detector {
   std::unique_ptr<OnnxModel> model_;  // thread-safe Run: one Pipeline, many threads
   DetectorConfig config_;
   std::string onnx_path_;
+};
+
+// PP-PicoDet-S 416, COCO-80, ONNX (models/picodet_s_416_coco/MANIFEST.md), run on OpenCV DNN from
+// the Clip-rewritten export (scripts/rewrite_onnx_clip.py). Pre- and post-processing live in
+// detect/picodet_codec.hpp; Forward is the only engine-specific step. Labels are reported in the
+// COCO-2017 spellings (CocoSpelling), class_id is the row of the COCO-80 list (same order as
+// YOLOX's).
+class PicodetDetector : public Detector {
+ public:
+  PicodetDetector(const std::string& onnx_path, const std::string& classes_path,
+                  const DetectorConfig& config);
+  std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
+  std::string name() const override { return "picodet"; }
+
+ private:
+  // The network's 8 outputs for one input blob, copied out of the net's buffers.
+  std::vector<cv::Mat> Forward(const cv::Mat& blob);
+
+  cv::dnn::Net net_;
+  std::mutex net_mutex_;  // as YoloxDetector's
+  std::vector<std::string> output_names_;
+  std::vector<std::string> classes_;
+  DetectorConfig config_;
+  std::string onnx_path_;
+};
+
+// Several detectors on the same image (backend "ensemble": YOLOX-Nano, then PicoDet): their
+// detections are pooled and per-class NMS (config.nms_iou) keeps the best box of each object, so
+// an object both find is reported once. The members' labels must share one spelling (COCO-2017).
+class EnsembleDetector : public Detector {
+ public:
+  EnsembleDetector(std::vector<std::unique_ptr<Detector>> members, const DetectorConfig& config);
+  std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
+  std::string name() const override;
+
+ private:
+  std::vector<std::unique_ptr<Detector>> members_;  // each thread-safe on its own
+  DetectorConfig config_;
 };
 
 // Yolo-Fastest-1.1-xl, COCO-80, Darknet cfg + weights (models/yolo_fastest_1.1_xl_coco): 320x320

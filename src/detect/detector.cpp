@@ -29,9 +29,21 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
     return std::make_unique<DarknetDetector>(paths.darknet_cfg, paths.darknet_weights,
                                              paths.darknet_classes, config);
   }
+  if (config.backend == "picodet") {
+    return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_classes, config);
+  }
+  if (config.backend == "ensemble") {
+    std::vector<std::unique_ptr<Detector>> members;
+    members.push_back(
+        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config));
+    members.push_back(
+        std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_classes, config));
+    return std::make_unique<EnsembleDetector>(std::move(members), config);
+  }
   if (config.backend == "file") return std::make_unique<FileDetector>(config);
-  throw MakeInputError("detector.backend", "unknown backend '" + config.backend +
-                                               "', expected one of: yolox, darknet, file");
+  throw MakeInputError("detector.backend",
+                       "unknown backend '" + config.backend +
+                           "', expected one of: yolox, picodet, ensemble, darknet, file");
 }
 
 namespace detail {

@@ -27,6 +27,8 @@ struct DetectorModelPaths {
   std::string darknet_cfg;      // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg
   std::string darknet_weights;  // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights
   std::string darknet_classes;  // yolo_fastest_1.1_xl_coco/coco_classes.txt
+  std::string picodet_onnx;     // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx
+  std::string picodet_classes;  // picodet_s_416_coco/coco.names (VOC spellings, mapped on load)
 };
 
 class Detector {

@@ -44,7 +44,8 @@ class ZeroregMethod : public PairMethod {
       : shared_(std::move(shared)), require_image_path_(require_image_path) {}
 
   MethodOutput Run(const Scan& source, const Scan& target) override {
-    return Output(shared_->pipeline.Register(source, target));
+    return Output(shared_->pipeline.Register(source, target), source.views.size(),
+                  target.views.size());
   }
 
   MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
@@ -71,11 +72,12 @@ class ZeroregMethod : public PairMethod {
       source = prepared(source_ref);
       target = prepared(target_ref);
     }
-    return Output(shared_->pipeline.Register(source, target));
+    return Output(shared_->pipeline.Register(source, target), source.scan().views.size(),
+                  target.scan().views.size());
   }
 
  private:
-  MethodOutput Output(RegistrationResult r) const {
+  MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target) const {
     if (require_image_path_ && r.path != "image") {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
       throw std::logic_error("--method image: the pipeline used the '" + r.path +
@@ -88,6 +90,14 @@ class ZeroregMethod : public PairMethod {
     out.path = r.path;
     out.correspondences = std::move(r.correspondences);
     out.num_inliers = r.num_inliers;
+    for (const ObjectSummary& o : r.source_objects)
+      out.source_object_centroids.push_back(o.centroid);
+    for (const ObjectSummary& o : r.target_objects)
+      out.target_object_centroids.push_back(o.centroid);
+    for (const ObjectMatchSummary& m : r.object_matches)
+      out.object_matches.push_back({m.source, m.target});
+    out.views_source = static_cast<int>(views_source);
+    out.views_target = static_cast<int>(views_target);
     return out;
   }
 

@@ -87,6 +87,19 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
   r.num_correspondences = static_cast<int>(output.correspondences.size());
   r.num_inliers = output.num_inliers;
   r.time_ms = time_ms;
+  r.objects_source = static_cast<int>(output.source_object_centroids.size());
+  r.objects_target = static_cast<int>(output.target_object_centroids.size());
+  r.views_source = output.views_source;
+  r.views_target = output.views_target;
+  for (const auto& [s, t] : output.object_matches) {
+    if (s < 0 || t < 0 || s >= r.objects_source || t >= r.objects_target) continue;
+    ++r.object_matches;
+    const Eigen::Vector3d moved =
+        (T_gt * output.source_object_centroids[s].homogeneous()).head<3>();
+    if ((moved - output.target_object_centroids[t]).norm() < kObjectMatchToleranceM) {
+      ++r.object_matches_correct;
+    }
+  }
   return r;
 }
 
@@ -127,6 +140,11 @@ json PairRecordToJson(const PairRecord& r) {
          {"num_correspondences", r.num_correspondences},
          {"num_inliers", r.num_inliers},
          {"time_ms", r.time_ms}};
+  if (r.objects_source + r.objects_target + r.object_matches > 0) {
+    j["objects"] = {{"source", r.objects_source},     {"target", r.objects_target},
+                    {"views_source", r.views_source}, {"views_target", r.views_target},
+                    {"matches", r.object_matches},    {"correct", r.object_matches_correct}};
+  }
   if (r.recall_error) j["recall_error"] = *r.recall_error;
   if (!r.error.empty()) j["error"] = r.error;
   return j;
@@ -157,6 +175,16 @@ PairRecord PairRecordFromJson(const json& j, const std::string& where) {
   r.num_correspondences = Get<int>(j, "num_correspondences", where);
   r.num_inliers = Get<int>(j, "num_inliers", where);
   r.time_ms = Get<double>(j, "time_ms", where);
+  if (j.contains("objects")) {
+    const json& o = j.at("objects");
+    const std::string at = where + ".objects";
+    r.objects_source = Get<int>(o, "source", at);
+    r.objects_target = Get<int>(o, "target", at);
+    r.views_source = Get<int>(o, "views_source", at);
+    r.views_target = Get<int>(o, "views_target", at);
+    r.object_matches = Get<int>(o, "matches", at);
+    r.object_matches_correct = Get<int>(o, "correct", at);
+  }
   return r;
 }
 

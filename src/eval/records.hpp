@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "zeroreg/types.hpp"
@@ -21,6 +22,9 @@ constexpr double kRecallErrorThreshold = 0.2 * 0.2;
 // 3DMatch inlier-ratio distance and feature-match-recall threshold.
 constexpr double kInlierDistanceM = 0.1;
 constexpr double kFeatureMatchRecallThreshold = 0.05;
+// A matched object pair is correct when its centroids agree within this under the ground truth
+// (issue 3; partly seen objects shift their centroid by up to a few decimetres).
+constexpr double kObjectMatchToleranceM = 0.3;
 
 struct PairTask {
   std::string benchmark;  // "3DMatch", "3DLoMatch" or "frames"
@@ -61,6 +65,11 @@ struct PairRecord {
   int num_correspondences = 0;
   int num_inliers = 0;   // the method's own inliers (RANSAC)
   double time_ms = 0.0;  // registration only (scan loading excluded)
+  // Object level (zeroreg's object path; 0 for other methods): objects of each scan, its views,
+  // matched object pairs and those whose centroids agree within kObjectMatchToleranceM under
+  // T_gt (CountCorrectObjectMatches).
+  int objects_source = 0, objects_target = 0, views_source = 0, views_target = 0;
+  int object_matches = 0, object_matches_correct = 0;
 };
 
 // Rounds every entry like WriteLogFile's "%15.8e" does.
@@ -74,6 +83,10 @@ struct MethodOutput {
   std::string path;  // which correspondence source produced it (RegistrationResult::path)
   std::vector<Correspondence> correspondences;  // for the inlier ratio under the GT pose
   int num_inliers = 0;
+  // zeroreg only: the object level's result (empty for other methods).
+  std::vector<Eigen::Vector3d> source_object_centroids, target_object_centroids;
+  std::vector<std::pair<int, int>> object_matches;  // (source row, target row)
+  int views_source = 0, views_target = 0;
 };
 
 // Computes the per-pair metrics of DESIGN §6 for `output` against `T_gt`.

@@ -1,6 +1,7 @@
 #include "graph/scene_graph.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <string>
 #include <vector>
@@ -99,6 +100,31 @@ Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
   }
   return (NormalizedRows(semantics_source) * NormalizedRows(semantics_target).transpose()).array() +
          1.0;
+}
+
+Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
+                               const Eigen::MatrixXd& semantics_target,
+                               const Eigen::MatrixXd& appearance_cosine,
+                               const Eigen::MatrixXd& comparable, double appearance_weight) {
+  Eigen::MatrixXd C = NodeSimilarity(semantics_source, semantics_target);
+  if (!(appearance_weight >= 0.0) || !std::isfinite(appearance_weight)) {
+    throw MakeInputError(
+        "object_match.appearance_weight",
+        "is " + std::to_string(appearance_weight) + ", expected a finite value >= 0");
+  }
+  for (const auto* m : {&appearance_cosine, &comparable}) {
+    if (m->rows() != C.rows() || m->cols() != C.cols()) {
+      throw MakeInputError(m == &comparable ? "comparable" : "appearance_cosine",
+                           "is " + std::to_string(m->rows()) + " x " + std::to_string(m->cols()) +
+                               ", expected " + std::to_string(C.rows()) + " x " +
+                               std::to_string(C.cols()) + " (source x target objects)");
+    }
+  }
+  RequireFinite(appearance_cosine, "appearance_cosine");
+  RequireFinite(comparable, "comparable");
+  if (appearance_weight == 0.0) return C;
+  C.array() -= appearance_weight * comparable.array() * (1.0 - appearance_cosine.array());
+  return C;
 }
 
 }  // namespace zeroreg

@@ -10,7 +10,6 @@
 
 namespace zeroreg {
 
-
 // Cosine similarity of two vectors; 0 when either is the zero vector (no semantic evidence).
 double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,
                         const Eigen::Ref<const Eigen::VectorXd>& b);
@@ -28,5 +27,15 @@ Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
 // when the semantic dimensions differ or values are not finite.
 Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
                                const Eigen::MatrixXd& semantics_target);
+
+// C with an appearance term (issue 11; docs/MATCHING.md):
+//   C_jk = 1 + cos(s^p_j, s^q_k) - lambda (1 - A_jk)  where comparable(j, k), else the C above,
+// A (n x m) the appearance cosines, comparable (n x m, 0/1) whether both objects have descriptors
+// of one kind. lambda = 0 gives NodeSimilarity exactly. Throws InputError for wrong sizes,
+// non-finite values or lambda < 0.
+Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
+                               const Eigen::MatrixXd& semantics_target,
+                               const Eigen::MatrixXd& appearance_cosine,
+                               const Eigen::MatrixXd& comparable, double appearance_weight);
 
 }  // namespace zeroreg

@@ -39,6 +39,16 @@ bool CompatibleLabels(const ObjectObservation& a, const ObjectObservation& b,
          Cosine(a.semantic, b.semantic) >= config.compatible_label_cosine;
 }
 
+// Label semantics say "both are chairs"; appearance says whether it is the same chair. Without
+// comparable descriptors there is no evidence against the merge.
+bool SimilarAppearance(const ObjectObservation& a, const ObjectObservation& b,
+                       const ObjectsConfig& config) {
+  if (config.association_min_appearance <= 0.0 || !Comparable(a.appearance, b.appearance)) {
+    return true;
+  }
+  return AppearanceSimilarity(a.appearance, b.appearance) >= config.association_min_appearance;
+}
+
 // One point per voxel (the first one met, in order), so that an object seen in three views does
 // not weigh three times in its centroid.
 std::vector<Eigen::Vector3d> ThinPoints(const std::vector<Eigen::Vector3d>& points,
@@ -88,6 +98,22 @@ double VoxelOverlap(const std::vector<Eigen::Vector3d>& a, const std::vector<Eig
   return static_cast<double>(shared) / small.size();
 }
 
+void AppearanceCosines(const std::vector<SceneObject>& source,
+                       const std::vector<SceneObject>& target, Eigen::MatrixXd* cosine,
+                       Eigen::MatrixXd* comparable) {
+  const auto n = static_cast<Eigen::Index>(source.size());
+  const auto m = static_cast<Eigen::Index>(target.size());
+  *cosine = Eigen::MatrixXd::Zero(n, m);
+  *comparable = Eigen::MatrixXd::Zero(n, m);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    for (Eigen::Index k = 0; k < m; ++k) {
+      if (!Comparable(source[j].appearance, target[k].appearance)) continue;
+      (*cosine)(j, k) = AppearanceSimilarity(source[j].appearance, target[k].appearance);
+      (*comparable)(j, k) = 1.0;
+    }
+  }
+}
+
 std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservation>& observations,
                                                int num_views, const ObjectsConfig& config) {
   const int n = static_cast<int>(observations.size());
@@ -100,6 +126,7 @@ std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservati
       // Two detections in the same view are different objects (NMS already merged duplicates).
       if (observations[i].view == observations[j].view) continue;
       if (!CompatibleLabels(observations[i], observations[j], config)) continue;
+      if (!SimilarAppearance(observations[i], observations[j], config)) continue;
       if (VoxelOverlap(observations[i].points, observations[j].points, config.association_voxel_m) <
           config.association_min_overlap) {
         continue;
@@ -132,8 +159,10 @@ std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservati
     std::vector<Eigen::Vector3d> points;
     Eigen::VectorXd semantic;
     int with_semantic = 0;
+    std::vector<const Appearance*> appearances;
     for (int i : object.observations) {
       const ObjectObservation& o = observations[i];
+      appearances.push_back(&o.appearance);
       views.insert(o.view);
       points.insert(points.end(), o.points.begin(), o.points.end());
       if (o.semantic.size() > 0) {
@@ -150,6 +179,7 @@ std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservati
     object.views.assign(views.begin(), views.end());
     if (with_semantic > 0) semantic /= static_cast<double>(with_semantic);
     object.semantic = semantic;
+    object.appearance = MeanAppearance(appearances);
     object.points = ThinPoints(points, config.point_voxel_m);
     if (object.points.empty()) continue;
     for (const Eigen::Vector3d& p : object.points) object.centroid += p;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "objects/appearance.hpp"
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
 
@@ -22,6 +23,7 @@ struct ObjectObservation {
   Detection detection;
   cv::Mat mask;                         // CV_8UC1, view size, nonzero inside
   Eigen::VectorXd semantic;             // semantic feature of the label (may be empty)
+  Appearance appearance;                // image descriptor of the mask pixels (may be empty)
   std::vector<Eigen::Vector3d> points;  // scan frame, metres (sub-sampled mask pixels)
 };
 
@@ -30,6 +32,7 @@ struct SceneObject {
   std::string label;
   float score = 0.0f;                   // best detection score among its observations
   Eigen::VectorXd semantic;             // mean of the observations' semantic features
+  Appearance appearance;                // MeanAppearance of the observations' descriptors
   std::vector<Eigen::Vector3d> points;  // union of the observations' points, voxel-thinned
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   std::vector<int> observations;  // indices into SceneObjects::observations
@@ -47,9 +50,17 @@ std::vector<Eigen::Vector3d> LiftMask(const View& view, const cv::Mat& mask,
                                       const ObjectsConfig& objects, const LiftConfig& lift);
 
 // Associates the observations of a scan with `num_views` views into objects (see file comment).
+// Two observations may merge only when, besides label and overlap, their appearance descriptors
+// (when both have comparable ones) have cosine >= config.association_min_appearance.
 // Deterministic: observations are visited in order and merged greedily.
 std::vector<SceneObject> AssociateObservations(const std::vector<ObjectObservation>& observations,
                                                int num_views, const ObjectsConfig& config);
+
+// A (n x m): cosines of the objects' appearance descriptors; comparable (n x m): 1 where both have
+// descriptors of one kind, else 0 (and A = 0). The inputs of the appearance-aware NodeSimilarity.
+void AppearanceCosines(const std::vector<SceneObject>& source,
+                       const std::vector<SceneObject>& target, Eigen::MatrixXd* cosine,
+                       Eigen::MatrixXd* comparable);
 
 // Fraction of the smaller point set's voxels (edge config.association_voxel_m) that the other set
 // also occupies.

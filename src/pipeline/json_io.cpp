@@ -172,6 +172,7 @@ void Visit(V& v, ObjectsConfig& c) {
   v("association_voxel_m", c.association_voxel_m, Positive());
   v("compatible_label_cosine", c.compatible_label_cosine, Between(-1, 1));
   v("point_voxel_m", c.point_voxel_m, Positive());
+  v("association_min_appearance", c.association_min_appearance, Between(-1, 1));
 }
 template <typename V>
 void Visit(V& v, SceneGraphConfig& c) {
@@ -184,6 +185,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("node_weight", c.node_weight, AtLeast(0));
   v("match_cost", c.match_cost);
   v("target_edge_weight", c.target_edge_weight, AtLeast(0));
+  v("appearance_weight", c.appearance_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
   v("restarts", c.restarts, AtLeast(1));
   v("iterations", c.iterations, AtLeast(1));

@@ -148,6 +148,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       o.view = static_cast<int>(v);
       o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
+      o.appearance = ColourAppearance(view.color, o.mask);  // issue 11: beside the label
       if (embedder_ != nullptr && o.semantic.size() == 0) {
         std::lock_guard<std::mutex> lock(embedder_mutex_);
         if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();
@@ -192,7 +193,10 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     for (size_t i = 0; i < objects_t.size(); ++i) centroids_t.row(i) = objects_t[i].centroid;
     const Eigen::MatrixXd W_p = BuildAffinityMatrix(centroids_s, sem_s, config_.scene_graph);
     const Eigen::MatrixXd W_q = BuildAffinityMatrix(centroids_t, sem_t, config_.scene_graph);
-    const Eigen::MatrixXd C = NodeSimilarity(sem_s, sem_t);
+    Eigen::MatrixXd appearance, comparable;
+    AppearanceCosines(objects_s, objects_t, &appearance, &comparable);
+    const Eigen::MatrixXd C = NodeSimilarity(sem_s, sem_t, appearance, comparable,
+                                             config_.object_match.appearance_weight);
     ObjectMatchConfig match_config = config_.object_match;
     if (!config_.method.scene_graph) match_config.solver = ObjectMatchSolver::kNodeOnly;
     match_config.seed = config_.seed;

@@ -284,10 +284,15 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
 // Model files of the configured detector, verified against the repo's sha256 list.
 DetectorModelPaths ResolveDetectorModels(const DetectorConfig& config, const std::string& assets) {
   DetectorModelPaths paths;
-  if (config.backend == "yolox") {
+  if (config.backend == "yolox" || config.backend == "ensemble") {
     paths.yolox_onnx = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
     paths.yolox_classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
-  } else if (config.backend == "darknet") {
+  }
+  if (config.backend == "picodet" || config.backend == "ensemble") {
+    paths.picodet_onnx = RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.opencv.onnx");
+    paths.picodet_classes = RequireAsset(assets, "picodet_s_416_coco/coco.names");
+  }
+  if (config.backend == "darknet") {
     paths.darknet_cfg = RequireAsset(assets, "yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg");
     paths.darknet_weights =
         RequireAsset(assets, "yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights");

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "semantics/label_aliases.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
 
@@ -154,6 +155,7 @@ std::optional<Eigen::VectorXf> ClipTableEmbedder::Embed(const std::string& label
   std::string key = Lower(label);
   std::replace(key.begin(), key.end(), '_', ' ');
   auto it = rows_.find(key);
+  if (it == rows_.end()) it = rows_.find(Lower(CocoSpelling(key)));  // "diningtable"
   if (it != rows_.end()) return it->second;
   if (warned_.insert(key).second) {
     std::cerr << "warning: label '" << label

@@ -11,8 +11,10 @@ namespace {
 
 TEST(AssetsFetchScript, CopiesVerifiesRepairsAndReportsBadFiles) {
   const std::string script = std::string(ZEROREG_REPO_DIR) + "/tests/assets/fetch_assets_test.sh";
-  // 10 s budget: the script copies ~11 MB twice and hashes it a few times (about 1 s here).
-  const std::string command = "timeout 10 bash '" + script + "'";
+  // 30 s budget: the script copies ~15 MB twice, hashes it a few times and rewrites the PicoDet
+  // export twice with python3-onnx: about 3 s on a quiet machine, 15 s measured with five builds
+  // and benchmarks sharing the 2 cores.
+  const std::string command = "timeout 30 bash '" + script + "'";
   const auto start = std::chrono::steady_clock::now();
   const int status = std::system(command.c_str());
   const double seconds =
@@ -20,9 +22,9 @@ TEST(AssetsFetchScript, CopiesVerifiesRepairsAndReportsBadFiles) {
   ASSERT_TRUE(WIFEXITED(status)) << command << " did not exit normally";
   const int code = WEXITSTATUS(status);
   if (code == 77) GTEST_SKIP() << "../shared/models not available";
-  EXPECT_NE(code, 124) << command << " exceeded its 10 s budget";
+  EXPECT_NE(code, 124) << command << " exceeded its 30 s budget";
   EXPECT_EQ(code, 0) << command << " failed (its output above says which check)";
-  EXPECT_LT(seconds, 10.0);
+  EXPECT_LT(seconds, 30.0);
 }
 
 }  // namespace

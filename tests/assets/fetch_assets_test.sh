@@ -47,6 +47,14 @@ printf 'garbage' >>"$work/dest/$corrupt_rel"
 bash "$fetch" --from "$models" --dest "$work/dest" >"$work/out3" 2>&1 || { cat "$work/out3"; fail "repair run failed"; }
 cmp -s "$work/dest/$corrupt_rel" "$models/$corrupt_rel" || fail "corrupt $corrupt_rel was not repaired"
 
+# 3b. A derived file (the Clip-rewritten PicoDet export, not in the mirror) is made again from
+# its source, byte for byte: the script's final check compares it with assets.sha256.
+derived_rel="picodet_s_416_coco/picodet_s_416_coco.opencv.onnx"
+[[ -f "$work/dest/$derived_rel" ]] || fail "$derived_rel was not made"
+rm "$work/dest/$derived_rel"
+bash "$fetch" --from "$models" --dest "$work/dest" >"$work/out3b" 2>&1 || { cat "$work/out3b"; fail "remaking $derived_rel failed"; }
+grep -q "(1 fetched" "$work/out3b" || { cat "$work/out3b"; fail "expected exactly $derived_rel to be remade"; }
+
 # 4. Bad mirror: one file corrupt, one missing -> non-zero exit naming both problems.
 # The mirror is a symlink farm (cheap; fetch-assets copies through the links) with one real,
 # corrupted file.

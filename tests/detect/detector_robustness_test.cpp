@@ -102,7 +102,7 @@ TEST(DetectorTiming, ForwardPrinted) {
   // Informational (the 2 cores are shared; no assertion on time): median wall and thread-CPU time
   // of Detect() on frame 0 over 7 runs after a warm-up, per backend.
   const cv::Mat image = ReadColorImage(FramePath(0, "color.jpg"));
-  for (const char* backend : {"yolox", "darknet"}) {
+  for (const char* backend : {"yolox", "darknet", "picodet", "ensemble"}) {
     DetectorConfig config;
     config.backend = backend;
     auto detector = MakeDetector(config, ModelPaths());

@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""Object-level table (issue 11 item 5) from `zeroreg eval pairs` runs.
+
+    /usr/bin/python3 scripts/object-table.py RESULTS [--markdown OUT.md]
+
+Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shared/lists/<list>
+--out RESULTS/<setup>/<list>` run each; scripts/bench-objects.sh makes them) and prints one row per
+(list, setup), over the finished pairs (records without "error"):
+
+- objects / view: objects of both scans over their views (frame pairs: one view per scan);
+- matches / pair: matched object pairs (after the label filter) per pair;
+- precision: matched pairs whose centroids agree within 0.3 m under the ground truth;
+- object path: share of pairs whose returned transform came from the object path;
+- rot@5 / trans@5 / success: RE < 5 deg, TE < 5 cm, and RE < 15 deg with TE < 30 cm;
+- valid-wrong: pairs the method called valid that are not a success;
+- median time per pair (registration only, ms).
+
+Standard library only.
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+
+
+def rows_of(path):
+    with open(path) as f:
+        return [json.loads(line) for line in f if line.strip()]
+
+
+def summarise(records):
+    done = [r for r in records if "error" not in r]
+    n = len(done)
+    if n == 0:
+        return None
+    objects = views = matches = correct = 0
+    for r in done:
+        o = r.get("objects", {})
+        objects += o.get("source", 0) + o.get("target", 0)
+        views += o.get("views_source", 1) + o.get("views_target", 1)
+        matches += o.get("matches", 0)
+        correct += o.get("correct", 0)
+    success = [r["rotation_error_deg"] < 15 and r["translation_error_m"] < 0.30 for r in done]
+    return {
+        "pairs": n,
+        "objects_per_view": objects / views if views else 0.0,
+        "matches_per_pair": matches / n,
+        "precision": correct / matches if matches else None,
+        "correct_per_pair": correct / n,
+        "object_path": sum(r.get("path") == "object" for r in done) / n,
+        "rot5": sum(r["rotation_error_deg"] < 5 for r in done) / n,
+        "trans5": sum(r["translation_error_m"] < 0.05 for r in done) / n,
+        "success": sum(success) / n,
+        "valid_wrong": sum(r["valid"] and not s for r, s in zip(done, success)),
+        "median_ms": statistics.median(r["time_ms"] for r in done),
+    }
+
+
+def pct(x):
+    return "-" if x is None else f"{100.0 * x:.1f}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("results")
+    ap.add_argument("--markdown", help="also write the table to this file")
+    args = ap.parse_args()
+    table = []
+    for setup in sorted(os.listdir(args.results)):
+        setup_dir = os.path.join(args.results, setup)
+        if not os.path.isdir(setup_dir):
+            continue
+        for lst in sorted(os.listdir(setup_dir)):
+            path = os.path.join(setup_dir, lst, "pairs.jsonl")
+            if not os.path.isfile(path):
+                continue
+            s = summarise(rows_of(path))
+            if s is not None:
+                table.append((lst, setup, s))
+    if not table:
+        sys.exit(f"object-table: no RESULTS/<setup>/<list>/pairs.jsonl under {args.results}")
+    table.sort(key=lambda t: (t[0], t[1]))
+    lines = ["| list | setup | pairs | objects / view | matches / pair | precision (%) | "
+             "correct / pair | object path (%) | rot@5 (%) | trans@5cm (%) | success (%) | "
+             "valid-wrong | median (ms) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for lst, setup, s in table:
+        lines.append(f"| {lst} | {setup} | {s['pairs']} | {s['objects_per_view']:.2f} | "
+                     f"{s['matches_per_pair']:.2f} | {pct(s['precision'])} | "
+                     f"{s['correct_per_pair']:.2f} | {pct(s['object_path'])} | {pct(s['rot5'])} | "
+                     f"{pct(s['trans5'])} | {pct(s['success'])} | {s['valid_wrong']} | "
+                     f"{s['median_ms']:.0f} |")
+    text = "\n".join(lines) + "\n"
+    sys.stdout.write(text)
+    if args.markdown:
+        with open(args.markdown, "w") as f:
+            f.write(text)
+
+
+if __name__ == "__main__":
+    main()

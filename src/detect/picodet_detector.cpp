@@ -1,0 +1,190 @@
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "detect/backends.hpp"
+#include "detect/picodet_codec.hpp"
+#include "semantics/label_aliases.hpp"
+#include "zeroreg/error.hpp"
+
+namespace zeroreg {
+namespace detail {
+
+cv::Mat PicodetInput(const cv::Mat& bgr, PicodetLetterbox* letterbox) {
+  const int size = kPicodetInputSize;
+  const double scale =
+      std::min(static_cast<double>(size) / bgr.rows, static_cast<double>(size) / bgr.cols);
+  const int w = std::clamp(static_cast<int>(std::lround(bgr.cols * scale)), 1, size);
+  const int h = std::clamp(static_cast<int>(std::lround(bgr.rows * scale)), 1, size);
+  cv::Mat resized;
+  cv::resize(bgr, resized, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+  const int top = (size - h) / 2, left = (size - w) / 2;
+  cv::Mat canvas;
+  cv::copyMakeBorder(resized, canvas, top, size - h - top, left, size - w - left,
+                     cv::BORDER_CONSTANT, cv::Scalar(0, 0, 0));
+  cv::Mat normalised;
+  canvas.convertTo(normalised, CV_32FC3);
+  normalised -= cv::Scalar(103.53, 116.28, 123.675);
+  cv::divide(normalised, cv::Scalar(57.375, 57.12, 58.395), normalised);
+  letterbox->scale = scale;
+  letterbox->pad_x = left;
+  letterbox->pad_y = top;
+  return cv::dnn::blobFromImage(normalised, 1.0, cv::Size(), cv::Scalar(), /*swapRB=*/false,
+                                /*crop=*/false, CV_32F);
+}
+
+namespace {
+
+// Cells along one side of the stride-s grid: the export pads odd sizes up (416 / 64 -> 7).
+int GridSide(int stride) { return (kPicodetInputSize + stride - 1) / stride; }
+
+// Rows x columns of a [1, n, c] (or [n, c]) tensor; {0, 0} for anything else.
+std::pair<int, int> RowsCols(const cv::Mat& m) {
+  if (m.dims == 3 && m.size[0] == 1) return {m.size[1], m.size[2]};
+  if (m.dims == 2) return {m.rows, m.cols};
+  return {0, 0};
+}
+
+// Expected distance of one box side: softmax over the bins, then sum_k k p_k.
+double SideDistance(const float* logits) {
+  float peak = logits[0];
+  for (int k = 1; k < kPicodetBins; ++k) peak = std::max(peak, logits[k]);
+  double sum = 0.0, weighted = 0.0;
+  for (int k = 0; k < kPicodetBins; ++k) {
+    const double e = std::exp(static_cast<double>(logits[k] - peak));
+    sum += e;
+    weighted += k * e;
+  }
+  return weighted / sum;
+}
+
+}  // namespace
+
+std::vector<Detection> PicodetDecode(const std::vector<cv::Mat>& outputs,
+                                     const PicodetLetterbox& letterbox, cv::Size image_size,
+                                     const std::vector<std::string>& classes,
+                                     const DetectorConfig& config, const std::string& model) {
+  const int num_classes = static_cast<int>(classes.size());
+  const int box_cols = 4 * kPicodetBins;
+  if (num_classes == box_cols) {
+    // Score and box tensors are told apart by their width.
+    throw MakeInputError(model, "cannot tell score from box tensors with 32 classes");
+  }
+  std::vector<const cv::Mat*> scores(4, nullptr), boxes(4, nullptr);
+  for (const cv::Mat& m : outputs) {
+    const auto [rows, cols] = RowsCols(m);
+    for (int s = 0; s < 4; ++s) {
+      const int side = GridSide(kPicodetStrides[s]);
+      if (rows != side * side || m.type() != CV_32F) continue;
+      if (cols == num_classes) scores[s] = &m;
+      if (cols == box_cols) boxes[s] = &m;
+    }
+  }
+  for (int s = 0; s < 4; ++s) {
+    if (scores[s] == nullptr || boxes[s] == nullptr) {
+      const int side = GridSide(kPicodetStrides[s]);
+      throw MakeInputError(model, "no output pair [1, " + std::to_string(side * side) + ", " +
+                                      std::to_string(num_classes) + "] + [1, " +
+                                      std::to_string(side * side) + ", 32] for stride " +
+                                      std::to_string(kPicodetStrides[s]) + " among " +
+                                      std::to_string(outputs.size()) +
+                                      " outputs (expected the PicoDet-S 416 COCO export)");
+    }
+  }
+  const cv::Rect2f image_rect(0.0f, 0.0f, static_cast<float>(image_size.width),
+                              static_cast<float>(image_size.height));
+  std::vector<Detection> candidates;
+  for (int s = 0; s < 4; ++s) {
+    const int stride = kPicodetStrides[s], side = GridSide(stride);
+    const float* score = scores[s]->ptr<float>();
+    const float* dist = boxes[s]->ptr<float>();
+    for (int cell = 0; cell < side * side; ++cell) {
+      const float* p = score + static_cast<size_t>(cell) * num_classes;
+      const int best = static_cast<int>(std::max_element(p, p + num_classes) - p);
+      if (p[best] < config.score_threshold) continue;
+      const double cx = (cell % side) * stride + 0.5 * (stride - 1);
+      const double cy = (cell / side) * stride + 0.5 * (stride - 1);
+      const float* d = dist + static_cast<size_t>(cell) * box_cols;
+      const double l = SideDistance(d) * stride, t = SideDistance(d + kPicodetBins) * stride;
+      const double r = SideDistance(d + 2 * kPicodetBins) * stride;
+      const double b = SideDistance(d + 3 * kPicodetBins) * stride;
+      const double x0 = (cx - l - letterbox.pad_x) / letterbox.scale;
+      const double y0 = (cy - t - letterbox.pad_y) / letterbox.scale;
+      const double x1 = (cx + r - letterbox.pad_x) / letterbox.scale;
+      const double y1 = (cy + b - letterbox.pad_y) / letterbox.scale;
+      cv::Rect2f box(static_cast<float>(x0), static_cast<float>(y0), static_cast<float>(x1 - x0),
+                     static_cast<float>(y1 - y0));
+      box &= image_rect;
+      if (box.width <= 0.0f || box.height <= 0.0f) continue;
+      candidates.push_back({box, classes[best], p[best], best});
+    }
+  }
+  return NonMaxSuppressionPerClass(candidates, config.nms_iou);
+}
+
+}  // namespace detail
+
+PicodetDetector::PicodetDetector(const std::string& onnx_path, const std::string& classes_path,
+                                 const DetectorConfig& config)
+    : config_(config), onnx_path_(onnx_path) {
+  detail::RequireReadableFile(onnx_path, "PicoDet ONNX model");
+  for (const std::string& name : detail::ReadClassNames(classes_path)) {
+    classes_.push_back(CocoSpelling(name));  // "diningtable" -> "dining table", as YOLOX says
+  }
+  try {
+    net_ = cv::dnn::readNetFromONNX(onnx_path);
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(onnx_path,
+                         std::string("cannot load as an ONNX network (expected the Clip-rewritten "
+                                     "PicoDet export that scripts/fetch-assets.sh makes): ") +
+                             e.what());
+  }
+  if (net_.empty()) throw MakeInputError(onnx_path, "ONNX network loaded empty");
+  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  output_names_ = net_.getUnconnectedOutLayersNames();
+}
+
+std::vector<cv::Mat> PicodetDetector::Forward(const cv::Mat& blob) {
+  std::vector<cv::Mat> outputs;
+  try {
+    std::lock_guard<std::mutex> lock(net_mutex_);
+    net_.setInput(blob);
+    net_.forward(outputs, output_names_);
+    // clone: the outputs share the net's buffers, which the next forward overwrites.
+    for (cv::Mat& m : outputs) m = m.clone();
+  } catch (const cv::Exception& e) {
+    throw MakeInputError(onnx_path_, std::string("forward pass failed: ") + e.what());
+  }
+  return outputs;
+}
+
+std::vector<Detection> PicodetDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
+  detail::RequireBgrImage(bgr, image_name);
+  detail::PicodetLetterbox letterbox;
+  const cv::Mat blob = detail::PicodetInput(bgr, &letterbox);
+  return detail::PicodetDecode(Forward(blob), letterbox, bgr.size(), classes_, config_, onnx_path_);
+}
+
+EnsembleDetector::EnsembleDetector(std::vector<std::unique_ptr<Detector>> members,
+                                   const DetectorConfig& config)
+    : members_(std::move(members)), config_(config) {}
+
+std::vector<Detection> EnsembleDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
+  // Members in their fixed order, each list by decreasing score: NMS's stable sort then breaks
+  // score ties by member order, so the result does not depend on timing or threads.
+  std::vector<Detection> all;
+  for (const auto& member : members_) {
+    std::vector<Detection> found = member->Detect(bgr, image_name);
+    all.insert(all.end(), found.begin(), found.end());
+  }
+  return detail::NonMaxSuppressionPerClass(all, config_.nms_iou);
+}
+
+std::string EnsembleDetector::name() const {
+  std::string n = "ensemble(";
+  for (size_t i = 0; i < members_.size(); ++i) n += (i ? "+" : "") + members_[i]->name();
+  return n + ")";
+}
+
+}  // namespace zeroreg
