@@ -199,6 +199,21 @@ struct RansacConfig {
   // must reach this (metres). 0.05 m = the inlier distance: inliers spread less than that across
   // their line carry no information about the rotation about it beyond their noise.
   double min_inlier_spread_m = 0.05;
+  // Which estimator turns the correspondences into a transform (src/estimate/max_clique.hpp):
+  // "ransac" (above: 3-point samples, adaptive stop) or "clique" (pairwise length-consistency graph
+  // and its maximum clique, as TEASER++ / MAC; no sampling, so it keeps working at a few percent
+  // of inliers, where RANSAC's chance of an all-inlier sample, ratio^3, runs out of iterations).
+  std::string estimator = "ransac";
+  // clique: at most this many correspondences enter the graph (the highest matcher scores): the
+  // graph costs n^2 / 2 length comparisons and n^2 / 8 bytes (1500: 1.1 M pairs, 0.3 MB).
+  int clique_max_correspondences = 1500;
+  // clique: two correspondences are consistent when their source and target lengths differ by at
+  // most 2 x this bound (metres; the farthest a correct correspondence lies off its true place).
+  // 0 = inlier_threshold_m, the distance at which a correspondence counts as an inlier anyway.
+  double clique_noise_bound_m = 0.0;
+  // clique: the exact branch and bound stops after this many search nodes and returns the largest
+  // clique found so far (deterministic: a node count, not a clock).
+  int clique_max_search_nodes = 200000;
 };
 
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.

@@ -96,6 +96,10 @@ void Visit(V& v, RansacConfig& c) {
   v("min_inliers", c.min_inliers, AtLeast(3));  // a rigid transform needs 3 points
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("min_inlier_spread_m", c.min_inlier_spread_m, AtLeast(0));
+  v("estimator", c.estimator);
+  v("clique_max_correspondences", c.clique_max_correspondences, AtLeast(3));
+  v("clique_noise_bound_m", c.clique_noise_bound_m, AtLeast(0));
+  v("clique_max_search_nodes", c.clique_max_search_nodes, AtLeast(1));
 }
 template <typename V>
 void Visit(V& v, VerifyConfig& c) {
@@ -351,6 +355,10 @@ class JsonReader {
 
 // Checks between fields (each field's own range is checked as it is read).
 void CheckRelations(const PipelineConfig& c, const std::string& where) {
+  if (c.ransac.estimator != "ransac" && c.ransac.estimator != "clique") {
+    throw MakeInputError(where, "ransac.estimator is \"" + c.ransac.estimator +
+                                    "\"; expected \"ransac\" or \"clique\"");
+  }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +
                                     ") must be below lift.max_depth_m (" +

@@ -7,6 +7,7 @@
 
 #include "estimate/icp.hpp"
 #include "estimate/lift.hpp"
+#include "estimate/max_clique.hpp"
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
@@ -99,13 +100,16 @@ void Estimate(std::vector<Correspondence> correspondences, const PipelineConfig&
   r->correspondences = std::move(correspondences);
   r->num_correspondences = static_cast<int>(r->correspondences.size());
   std::vector<Eigen::Vector3d> src, tgt;
+  std::vector<float> scores;
   src.reserve(r->correspondences.size());
   tgt.reserve(r->correspondences.size());
   for (const Correspondence& c : r->correspondences) {
     src.push_back(c.source);
     tgt.push_back(c.target);
+    scores.push_back(c.score);
   }
-  const RansacResult ransac = EstimateRigidRansac(src, tgt, config.ransac, config.seed);
+  // ransac.estimator: RANSAC (the paper's) or the maximum-clique estimator (issue 12).
+  const RansacResult ransac = EstimateRigid(src, tgt, scores, config.ransac, config.seed);
   r->T_target_source = ransac.T_target_source;
   r->is_inlier = ransac.is_inlier;
   r->num_inliers = ransac.num_inliers;
