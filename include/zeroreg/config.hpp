@@ -349,6 +349,38 @@ struct MethodConfig {
   bool whole_image_all_view_pairs = true;
 };
 
+// Several hypotheses, one judge (issue 12, src/pipeline/hypotheses.hpp): besides the method's own
+// estimate (object correspondences, then the whole-image fallback), further candidate transforms
+// come from other sources; each is estimated, refined and checked by the geometric verification
+// (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
+struct HypothesesConfig {
+  // Off: the paper's flow alone. On: the sources below are tried as well.
+  bool enabled = false;
+  // false: only when the method's own estimate is not valid (no cost on pairs it registers);
+  // true: always, and a source whose verified estimate scores higher replaces it.
+  bool always = false;
+  // (b) whole-image correspondences, when the object level has not already fallen back to them.
+  bool image = true;
+  // (c) the scans' own geometry: FPFH on the depth clouds, mutual nearest neighbours in feature
+  // space, estimated by `estimator`.
+  bool geometry = true;
+  // (d) object level: every pair of same-label objects of the two scans as a centroid
+  // correspondence (not only the matched pairs, so a swapped match of two chairs still leaves the
+  // right pairs in), estimated by `estimator` at method.object_centroid_threshold_m.
+  bool objects = true;
+  // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
+  // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
+  std::string estimator = "clique";
+  // Count test of the extra sources' estimates: the inlier ratio asked of them (ransac.min_inliers
+  // and min_inlier_spread_m still apply). 0: the geometric check judges; a low ratio is what
+  // geometric matches have, not a sign of a wrong transform.
+  double min_inlier_ratio = 0.0;
+  // (c): the clouds (every geometry_pixel_stride-th depth pixel) are thinned to geometry_voxel_m
+  // voxels; normals over 2 voxels, FPFH over 5 voxels (the FPFH baseline's radii, --method fpfh).
+  double geometry_voxel_m = 0.05;
+  int geometry_pixel_stride = 2;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
@@ -363,6 +395,7 @@ struct PipelineConfig {
   SceneGraphConfig scene_graph;
   ObjectMatchConfig object_match;
   MethodConfig method;
+  HypothesesConfig hypotheses;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
 };

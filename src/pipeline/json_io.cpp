@@ -200,6 +200,18 @@ void Visit(V& v, MethodConfig& c) {
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
 }
 template <typename V>
+void Visit(V& v, HypothesesConfig& c) {
+  v("enabled", c.enabled);
+  v("always", c.always);
+  v("image", c.image);
+  v("geometry", c.geometry);
+  v("objects", c.objects);
+  v("estimator", c.estimator);
+  v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
+  v("geometry_voxel_m", c.geometry_voxel_m, Positive());
+  v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
+}
+template <typename V>
 void Visit(V& v, PipelineConfig& c) {
   v.Section("method", c.method);
   v.Section("features", c.features);
@@ -214,6 +226,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("ransac", c.ransac);
   v.Section("refine", c.refine);
   v.Section("verify", c.verify);
+  v.Section("hypotheses", c.hypotheses);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
 }
@@ -355,9 +368,13 @@ class JsonReader {
 
 // Checks between fields (each field's own range is checked as it is read).
 void CheckRelations(const PipelineConfig& c, const std::string& where) {
-  if (c.ransac.estimator != "ransac" && c.ransac.estimator != "clique") {
-    throw MakeInputError(where, "ransac.estimator is \"" + c.ransac.estimator +
-                                    "\"; expected \"ransac\" or \"clique\"");
+  for (const auto& [key, name] :
+       {std::pair<const char*, const std::string&>{"ransac.estimator", c.ransac.estimator},
+        {"hypotheses.estimator", c.hypotheses.estimator}}) {
+    if (name != "ransac" && name != "clique") {
+      throw MakeInputError(
+          where, std::string(key) + " is \"" + name + "\"; expected \"ransac\" or \"clique\"");
+    }
   }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +

@@ -11,6 +11,7 @@
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
+#include "pipeline/hypotheses.hpp"
 #include "pipeline/image_correspondences.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
@@ -331,6 +332,19 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
     effective.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
     effective.ransac.min_inliers = 3;
   }
+  HypothesisInputs more;  // issue 12: what the extra hypotheses reuse from the method's run
+  if (config.hypotheses.enabled && result.path == "object") {
+    more.object_correspondences = found.correspondences;
+  }
+  std::vector<Correspondence> whole_image_cache;  // matched once, used by fallback and hypotheses
+  bool whole_image_matched = false;
+  if (found.whole_image_fallback) {
+    more.whole_image = [&]() {
+      if (!whole_image_matched) whole_image_cache = found.whole_image_fallback();
+      whole_image_matched = true;
+      return whole_image_cache;
+    };
+  }
   Estimate(std::move(found.correspondences), effective, &result);
   timer.Mark("estimate");
   ApplyVerification(source, target, effective, result.path + " ransac", &result);
@@ -341,7 +355,8 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   if (!result.valid && found.whole_image_fallback) {
     const std::string object_reason = result.reason;
     RegistrationResult fallback = result;
-    fallback.correspondences = found.whole_image_fallback();
+    fallback.correspondences = more.whole_image();
+    more.whole_image_tried = true;
     timer.Mark("point_match");
     Estimate(std::move(fallback.correspondences), effective, &fallback);
     timer.Mark("estimate");
@@ -367,6 +382,18 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
     timer.Restart();
     Refine(source, target, effective, &result);
     timer.Mark("refine");
+  }
+  if (WantMoreHypotheses(config, result)) {
+    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found_here,
+                              const PipelineConfig& e) {
+      RegistrationResult r;
+      r.path = path;
+      Estimate(std::move(found_here), e, &r);
+      ApplyVerification(source, target, e, path, &r);
+      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r);
+      return r;
+    };
+    JudgeMoreHypotheses(source, target, config, more, judge, timer, &result);
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
