@@ -213,7 +213,7 @@ struct RansacConfig {
   double clique_noise_bound_m = 0.0;
   // clique: the exact branch and bound stops after this many search nodes and returns the largest
   // clique found so far (deterministic: a node count, not a clock).
-  int clique_max_search_nodes = 200000;
+  int clique_max_search_nodes = 2000;
 };
 
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
