@@ -378,7 +378,14 @@ struct HypothesesConfig {
   // (c): the clouds (every geometry_pixel_stride-th depth pixel) are thinned to geometry_voxel_m
   // voxels; normals over 2 voxels, FPFH over 5 voxels (the FPFH baseline's radii, --method fpfh).
   double geometry_voxel_m = 0.05;
-  int geometry_pixel_stride = 2;
+  // 4: a pixel at 2 m covers 3.4 mm on a Kinect (f = 585 px), so every 4th pixel still leaves
+  // several per 5 cm voxel; stride 2 gave the same transform (redkitchen 796 -> 341) at 1.5x time.
+  int geometry_pixel_stride = 4;
+  // true: an extra source's estimate is never valid where the check finds the geometry degenerate
+  // (VerificationResult::degenerate): there the check leaves the open motion to the
+  // correspondences, and these sources' correspondences are mostly wrong by construction (a
+  // HoloLens wall pair was "fixed" by 14 of 1109 FPFH matches, 180 deg off; hololens-cross 48-284).
+  bool refuse_degenerate = true;
 };
 
 struct PipelineConfig {

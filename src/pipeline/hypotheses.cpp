@@ -89,16 +89,28 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   const HypothesesConfig& h = config.hypotheses;
   const PipelineConfig extra = ExtraSourceConfig(config);
   std::vector<RegistrationResult> tried;
+  // Every extra source's result passes through here (HypothesesConfig::refuse_degenerate).
+  auto judge_extra = [&](const std::string& path, std::vector<Correspondence> correspondences,
+                         const PipelineConfig& effective) {
+    RegistrationResult r = judge(path, std::move(correspondences), effective);
+    if (h.refuse_degenerate && r.valid && r.verification.degenerate) {
+      r.valid = false;
+      r.reason +=
+          "; refused: the geometry is degenerate and this source's correspondences are "
+          "too weak to fix the open motion";
+    }
+    return r;
+  };
   timer.Restart();
   // (a) The object correspondences again, when the extra estimator differs from the method's.
   if (!inputs.object_correspondences.empty() && h.estimator != config.ransac.estimator) {
-    tried.push_back(judge("object " + h.estimator, inputs.object_correspondences, extra));
+    tried.push_back(judge_extra("object " + h.estimator, inputs.object_correspondences, extra));
     timer.Mark("hypothesis object");
   }
   // (b) Whole-image correspondences, unless the fallback already estimated them the same way.
   if (h.image && inputs.whole_image &&
       !(inputs.whole_image_tried && h.estimator == config.ransac.estimator)) {
-    tried.push_back(judge("image " + h.estimator, inputs.whole_image(), extra));
+    tried.push_back(judge_extra("image " + h.estimator, inputs.whole_image(), extra));
     timer.Mark("hypothesis image");
   }
   // (c) Geometry. Correspondences between voxel centres are off by up to about a voxel even when
@@ -107,8 +119,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     PipelineConfig geometry = extra;
     geometry.ransac.inlier_threshold_m =
         std::max(config.ransac.inlier_threshold_m, 1.5 * h.geometry_voxel_m);
-    tried.push_back(judge("geometry " + h.estimator,
-                          GeometryCorrespondences(source, target, config), geometry));
+    tried.push_back(judge_extra("geometry " + h.estimator,
+                                GeometryCorrespondences(source, target, config), geometry));
     timer.Mark("hypothesis geometry");
   }
   // (d) Object centroids, judged at the centroid distance of the paper's Table 4 row (b).
@@ -118,7 +130,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
       PipelineConfig objects = extra;
       objects.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
       objects.ransac.min_inliers = 3;
-      tried.push_back(judge("object-pairs " + h.estimator, std::move(pairs), objects));
+      tried.push_back(judge_extra("object-pairs " + h.estimator, std::move(pairs), objects));
       timer.Mark("hypothesis object-pairs");
     }
   }

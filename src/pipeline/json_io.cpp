@@ -210,6 +210,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());
   v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
+  v("refuse_degenerate", c.refuse_degenerate);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {
