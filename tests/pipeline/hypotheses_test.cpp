@@ -6,7 +6,9 @@
 #include "estimate/max_clique.hpp"
 #include "eval/metrics.hpp"
 #include "test_paths.hpp"
+#include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
+#include "zeroreg/json.hpp"
 #include "zeroreg/register.hpp"
 
 namespace zeroreg {
@@ -106,6 +108,24 @@ TEST(Hypotheses, OffByDefaultAndNeverValidWithoutTheCheck) {
   EXPECT_FALSE(WantMoreHypotheses(config, valid));
   config.hypotheses.always = true;
   EXPECT_TRUE(WantMoreHypotheses(config, valid));
+}
+
+TEST(Hypotheses, EstimatorNamesAreCheckedWhereTheyEnter) {
+  for (const char* key : {"ransac.estimator", "hypotheses.estimator"}) {
+    PipelineConfig config;
+    try {
+      ApplyConfigOverride(std::string(key) + "=teaser", &config);
+      FAIL() << key << ": expected InputError";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(key), std::string::npos) << m;
+      EXPECT_NE(m.find("teaser"), std::string::npos) << m;
+      EXPECT_NE(m.find("\"clique\""), std::string::npos) << m;
+    }
+  }
+  PipelineConfig config;
+  ApplyConfigOverride("ransac.estimator=clique", &config);
+  EXPECT_EQ(config.ransac.estimator, "clique");
 }
 
 TEST(Hypotheses, RealPairEveryCandidateListedAndTheWinnerIsVerified) {
