@@ -135,11 +135,13 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     }
   }
 
-  // The judge: the best of the method's result and every hypothesis.
+  // The judge: the best of the method's result and every hypothesis. Only a valid hypothesis
+  // replaces the method's result: among invalid ones the score says little (redkitchen-cross
+  // 490-858: an invalid geometry estimate 178 deg off outscored the fallback's 13 deg one).
   int best = -1;
   for (size_t k = 0; k < tried.size(); ++k) {
     const RegistrationResult& incumbent = best < 0 ? *result : tried[static_cast<size_t>(best)];
-    if (Better(tried[k], incumbent)) best = static_cast<int>(k);
+    if (tried[k].valid && Better(tried[k], incumbent)) best = static_cast<int>(k);
   }
   std::vector<CandidateSummary> all = result->candidates;
   std::string summary;

@@ -40,8 +40,9 @@ struct HypothesisInputs {
 // result not valid unless hypotheses.always).
 bool WantMoreHypotheses(const PipelineConfig& config, const RegistrationResult& result);
 
-// Runs the enabled sources, judges each with `judge`, and replaces *result by the best: a valid
-// result beats an invalid one, then the higher verification score wins; ties keep *result. The
+// Runs the enabled sources, judges each with `judge`, and replaces *result by the best valid one
+// (a valid result beats an invalid one, then the higher verification score wins; ties keep
+// *result); an invalid hypothesis never replaces *result. The
 // candidates of every source are appended to result->candidates; the winner's reason says which
 // sources it beat and their scores. Each source's time is added to `timer` as "hypothesis <name>".
 void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineConfig& config,
