@@ -354,7 +354,10 @@ struct MethodConfig {
 // come from other sources; each is estimated, refined and checked by the geometric verification
 // (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
 struct HypothesesConfig {
-  // Off: the paper's flow alone. On: the sources below are tried as well.
+  // Off: the paper's flow alone. On: the sources below are tried as well. Off by default for now:
+  // on, it adds valid right results on redkitchen-cross (+5), redkitchen-gap60 (+4) and
+  // cabinet-gap1 (+1) and no valid-wrong one on any list, but cabinet-gap3 loses one pair of 5 deg
+  // / 5 cm accuracy (BENCHMARKS.md, issue 12), which the gap lists must not.
   bool enabled = false;
   // false: only when the method's own estimate is not valid (no cost on pairs it registers);
   // true: always, and a source whose verified estimate scores higher replaces it.
