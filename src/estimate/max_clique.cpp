@@ -217,7 +217,7 @@ RansacResult EstimateRigidClique(const std::vector<Eigen::Vector3d>& source,
   const int m = static_cast<int>(kept.size());
 
   // Two inliers are each within the noise bound of their true positions, so their source and
-  // target lengths differ by at most twice the bound (TEASER++ Eq. 9, with beta = the bound).
+  // target lengths differ by at most twice the bound (the pairwise invariant of TEASER++).
   const double noise =
       config.clique_noise_bound_m > 0 ? config.clique_noise_bound_m : config.inlier_threshold_m;
   std::vector<std::vector<int>> adjacency(static_cast<size_t>(m));
