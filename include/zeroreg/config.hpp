@@ -229,6 +229,21 @@ struct RansacConfig {
   // must reach this (metres). 0.05 m = the inlier distance: inliers spread less than that across
   // their line carry no information about the rotation about it beyond their noise.
   double min_inlier_spread_m = 0.05;
+  // Which estimator turns the correspondences into a transform (src/estimate/max_clique.hpp):
+  // "ransac" (above: 3-point samples, adaptive stop) or "clique" (pairwise length-consistency graph
+  // and its maximum clique, as TEASER++ / MAC; no sampling, so it keeps working at a few percent
+  // of inliers, where RANSAC's chance of an all-inlier sample, ratio^3, runs out of iterations).
+  std::string estimator = "ransac";
+  // clique: at most this many correspondences enter the graph (the highest matcher scores): the
+  // graph costs n^2 / 2 length comparisons and n^2 / 8 bytes (1500: 1.1 M pairs, 0.3 MB).
+  int clique_max_correspondences = 1500;
+  // clique: two correspondences are consistent when their source and target lengths differ by at
+  // most 2 x this bound (metres; the farthest a correct correspondence lies off its true place).
+  // 0 = inlier_threshold_m, the distance at which a correspondence counts as an inlier anyway.
+  double clique_noise_bound_m = 0.0;
+  // clique: the exact branch and bound stops after this many search nodes and returns the largest
+  // clique found so far (deterministic: a node count, not a clock).
+  int clique_max_search_nodes = 2000;
 };
 
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
@@ -368,6 +383,48 @@ struct MethodConfig {
   bool whole_image_all_view_pairs = true;
 };
 
+// Several hypotheses, one judge (issue 12, src/pipeline/hypotheses.hpp): besides the method's own
+// estimate (object correspondences, then the whole-image fallback), further candidate transforms
+// come from other sources; each is estimated, refined and checked by the geometric verification
+// (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
+struct HypothesesConfig {
+  // Off: the paper's flow alone. On: the sources below are tried as well. Off by default for now:
+  // on, it adds valid right results on redkitchen-cross (+5), redkitchen-gap60 (+4) and
+  // cabinet-gap1 (+1) and no valid-wrong one on any list, but cabinet-gap3 loses one pair of 5 deg
+  // / 5 cm accuracy (BENCHMARKS.md, issue 12), which the gap lists must not.
+  bool enabled = false;
+  // false: only when the method's own estimate is not valid (no cost on pairs it registers);
+  // true: always, and a source whose verified estimate scores higher replaces it.
+  bool always = false;
+  // (b) whole-image correspondences, when the object level has not already fallen back to them.
+  bool image = true;
+  // (c) the scans' own geometry: FPFH on the depth clouds, mutual nearest neighbours in feature
+  // space, estimated by `estimator`.
+  bool geometry = true;
+  // (d) object level: every pair of same-label objects of the two scans as a centroid
+  // correspondence (not only the matched pairs, so a swapped match of two chairs still leaves the
+  // right pairs in), estimated by `estimator` at method.object_centroid_threshold_m.
+  bool objects = true;
+  // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
+  // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
+  std::string estimator = "clique";
+  // Count test of the extra sources' estimates: the inlier ratio asked of them (ransac.min_inliers
+  // and min_inlier_spread_m still apply). 0: the geometric check judges; a low ratio is what
+  // geometric matches have, not a sign of a wrong transform.
+  double min_inlier_ratio = 0.0;
+  // (c): the clouds (every geometry_pixel_stride-th depth pixel) are thinned to geometry_voxel_m
+  // voxels; normals over 2 voxels, FPFH over 5 voxels (the FPFH baseline's radii, --method fpfh).
+  double geometry_voxel_m = 0.05;
+  // 4: a pixel at 2 m covers 3.4 mm on a Kinect (f = 585 px), so every 4th pixel still leaves
+  // several per 5 cm voxel; stride 2 gave the same transform (redkitchen 796 -> 341) at 1.5x time.
+  int geometry_pixel_stride = 4;
+  // true: an extra source's estimate is never valid where the check finds the geometry degenerate
+  // (VerificationResult::degenerate): there the check leaves the open motion to the
+  // correspondences, and these sources' correspondences are mostly wrong by construction (a
+  // HoloLens wall pair was "fixed" by 14 of 1109 FPFH matches, 180 deg off; hololens-cross 48-284).
+  bool refuse_degenerate = true;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
@@ -383,6 +440,7 @@ struct PipelineConfig {
   SceneGraphConfig scene_graph;
   ObjectMatchConfig object_match;
   MethodConfig method;
+  HypothesesConfig hypotheses;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
   // Threads one registration may use: Register(Scan, Scan) prepares the two scans concurrently,

@@ -19,6 +19,7 @@
 #include "estimate/lift.hpp"
 #include "estimate/rigid_ransac.hpp"
 #include "eval/prepared_cache.hpp"
+#include "features/fpfh.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 #include "zeroreg/register.hpp"
@@ -173,16 +174,14 @@ class FpfhMethod : public PairMethod {
   };
 
   Prepared Prepare(const Scan& scan) const {
-    open3d::geometry::PointCloud full;
-    full.points_ = ScanGeometry(scan, c_.min_depth_m, c_.max_depth_m);
-    Prepared p;
-    p.cloud = full.VoxelDownSample(c_.voxel_m);
-    p.cloud->EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(
-        c_.normal_radius_voxels * c_.voxel_m, c_.normal_max_nn));
-    p.feature = reg::ComputeFPFHFeature(
-        *p.cloud, open3d::geometry::KDTreeSearchParamHybrid(c_.feature_radius_voxels * c_.voxel_m,
-                                                            c_.feature_max_nn));
-    return p;
+    FpfhParams params;
+    params.voxel_m = c_.voxel_m;
+    params.normal_radius_voxels = c_.normal_radius_voxels;
+    params.normal_max_nn = c_.normal_max_nn;
+    params.feature_radius_voxels = c_.feature_radius_voxels;
+    params.feature_max_nn = c_.feature_max_nn;
+    const FpfhCloud fpfh = ComputeFpfh(ScanGeometry(scan, c_.min_depth_m, c_.max_depth_m), params);
+    return {fpfh.cloud, fpfh.feature};
   }
 
   FpfhConfig c_;

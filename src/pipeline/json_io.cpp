@@ -96,6 +96,10 @@ void Visit(V& v, RansacConfig& c) {
   v("min_inliers", c.min_inliers, AtLeast(3));  // a rigid transform needs 3 points
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("min_inlier_spread_m", c.min_inlier_spread_m, AtLeast(0));
+  v("estimator", c.estimator);
+  v("clique_max_correspondences", c.clique_max_correspondences, AtLeast(3));
+  v("clique_noise_bound_m", c.clique_noise_bound_m, AtLeast(0));
+  v("clique_max_search_nodes", c.clique_max_search_nodes, AtLeast(1));
 }
 template <typename V>
 void Visit(V& v, VerifyConfig& c) {
@@ -204,6 +208,19 @@ void Visit(V& v, MethodConfig& c) {
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
 }
 template <typename V>
+void Visit(V& v, HypothesesConfig& c) {
+  v("enabled", c.enabled);
+  v("always", c.always);
+  v("image", c.image);
+  v("geometry", c.geometry);
+  v("objects", c.objects);
+  v("estimator", c.estimator);
+  v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
+  v("geometry_voxel_m", c.geometry_voxel_m, Positive());
+  v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
+  v("refuse_degenerate", c.refuse_degenerate);
+}
+template <typename V>
 void Visit(V& v, PipelineConfig& c) {
   v.Section("method", c.method);
   v.Section("features", c.features);
@@ -219,6 +236,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("ransac", c.ransac);
   v.Section("refine", c.refine);
   v.Section("verify", c.verify);
+  v.Section("hypotheses", c.hypotheses);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
   v("threads", c.threads, Between(1, 64));
@@ -361,6 +379,14 @@ class JsonReader {
 
 // Checks between fields (each field's own range is checked as it is read).
 void CheckRelations(const PipelineConfig& c, const std::string& where) {
+  for (const auto& [key, name] :
+       {std::pair<const char*, const std::string&>{"ransac.estimator", c.ransac.estimator},
+        {"hypotheses.estimator", c.hypotheses.estimator}}) {
+    if (name != "ransac" && name != "clique") {
+      throw MakeInputError(
+          where, std::string(key) + " is \"" + name + "\"; expected \"ransac\" or \"clique\"");
+    }
+  }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +
                                     ") must be below lift.max_depth_m (" +

@@ -12,10 +12,12 @@
 
 #include "estimate/icp.hpp"
 #include "estimate/lift.hpp"
+#include "estimate/max_clique.hpp"
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
+#include "pipeline/hypotheses.hpp"
 #include "pipeline/image_source.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "point_match/descriptor_matcher.hpp"
@@ -134,13 +136,16 @@ void Estimate(std::vector<Correspondence> correspondences, const PipelineConfig&
   r->correspondences = std::move(correspondences);
   r->num_correspondences = static_cast<int>(r->correspondences.size());
   std::vector<Eigen::Vector3d> src, tgt;
+  std::vector<float> scores;
   src.reserve(r->correspondences.size());
   tgt.reserve(r->correspondences.size());
   for (const Correspondence& c : r->correspondences) {
     src.push_back(c.source);
     tgt.push_back(c.target);
+    scores.push_back(c.score);
   }
-  const RansacResult ransac = EstimateRigidRansac(src, tgt, config.ransac, config.seed);
+  // ransac.estimator: RANSAC (the paper's) or the maximum-clique estimator (issue 12).
+  const RansacResult ransac = EstimateRigid(src, tgt, scores, config.ransac, config.seed);
   r->T_target_source = ransac.T_target_source;
   r->is_inlier = ransac.is_inlier;
   r->num_inliers = ransac.num_inliers;
@@ -468,6 +473,19 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     effective.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
     effective.ransac.min_inliers = 3;
   }
+  HypothesisInputs more;  // issue 12: what the extra hypotheses reuse from the method's run
+  if (config.hypotheses.enabled && result.path == "object") {
+    more.object_correspondences = found.correspondences;
+  }
+  std::vector<Correspondence> whole_image_cache;  // matched once, used by fallback and hypotheses
+  bool whole_image_matched = false;
+  if (found.whole_image_fallback) {
+    more.whole_image = [&]() {
+      if (!whole_image_matched) whole_image_cache = found.whole_image_fallback();
+      whole_image_matched = true;
+      return whole_image_cache;
+    };
+  }
   Estimate(std::move(found.correspondences), effective, &result);
   timer.Mark("estimate");
   ApplyVerification(source, target, effective, result.path + " ransac", &result);
@@ -478,7 +496,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   if (!result.valid && found.whole_image_fallback) {
     const std::string object_reason = result.reason;
     RegistrationResult fallback = result;
-    fallback.correspondences = found.whole_image_fallback();
+    fallback.correspondences = more.whole_image();
+    more.whole_image_tried = true;
     timer.Mark("point_match");
     Estimate(std::move(fallback.correspondences), effective, &fallback);
     timer.Mark("estimate");
@@ -504,6 +523,18 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     timer.Restart();
     Refine(source, target, effective, &result);
     timer.Mark("refine");
+  }
+  if (WantMoreHypotheses(config, result)) {
+    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found_here,
+                              const PipelineConfig& e) {
+      RegistrationResult r;
+      r.path = path;
+      Estimate(std::move(found_here), e, &r);
+      ApplyVerification(source, target, e, path, &r);
+      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r);
+      return r;
+    };
+    JudgeMoreHypotheses(source.scan, target.scan, config, more, judge, timer, &result);
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;

@@ -184,6 +184,50 @@ cv::Mat DrawVerification(const Scan& source, const Scan& target, const Registrat
   return canvas;
 }
 
+cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,
+                       int view, int max_candidates) {
+  // The chosen candidate first, then the others by verification score (best first).
+  std::vector<const CandidateSummary*> order;
+  for (const CandidateSummary& c : result.candidates) order.push_back(&c);
+  std::stable_sort(order.begin(), order.end(),
+                   [](const CandidateSummary* a, const CandidateSummary* b) {
+                     if (a->chosen != b->chosen) return a->chosen;
+                     return a->score > b->score;
+                   });
+  if (static_cast<int>(order.size()) > max_candidates)
+    order.resize(static_cast<size_t>(max_candidates));
+  std::vector<cv::Mat> tiles;
+  for (const CandidateSummary* c : order) {
+    cv::Mat tile = DrawRegisteredClouds(source, target, c->T_target_source, view);
+    // Cover the registered-clouds caption with this candidate's verdict.
+    cv::rectangle(tile, cv::Point(0, tile.rows - 28), cv::Point(tile.cols, tile.rows),
+                  c->chosen ? cv::Scalar(60, 140, 60) : cv::Scalar(90, 90, 90), cv::FILLED);
+    char text[200];
+    std::snprintf(text, sizeof(text), "%s%s: score %.3f, check %s", c->chosen ? "CHOSEN " : "",
+                  c->name.c_str(), c->score, c->passed ? "passed" : "refused");
+    Caption(tile, text);
+    tiles.push_back(tile);
+  }
+  if (tiles.empty()) return {};
+  // Two tiles per row; an odd last row is padded with white.
+  const int columns = tiles.size() > 1 ? 2 : 1;
+  std::vector<cv::Mat> rows;
+  for (size_t k = 0; k < tiles.size(); k += columns) {
+    std::vector<cv::Mat> row(
+        tiles.begin() + static_cast<long>(k),
+        tiles.begin() + static_cast<long>(std::min(tiles.size(), k + columns)));
+    while (static_cast<int>(row.size()) < columns) {
+      row.emplace_back(tiles[0].size(), tiles[0].type(), cv::Scalar(255, 255, 255));
+    }
+    cv::Mat joined;
+    cv::hconcat(row, joined);
+    rows.push_back(joined);
+  }
+  cv::Mat canvas;
+  cv::vconcat(rows, canvas);
+  return canvas;
+}
+
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
                                                    const RegistrationResult& result,
@@ -211,6 +255,13 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
   for (size_t v = 0; v < target.views.size(); ++v) {
     write("verification-view" + std::to_string(v) + ".png",
           DrawVerification(source, target, result, verify, static_cast<int>(v)));
+  }
+  // The winning hypothesis and its runners-up (issue 12), when there was a choice.
+  if (result.candidates.size() > 1) {
+    for (size_t v = 0; v < target.views.size(); ++v) {
+      write("hypotheses-view" + std::to_string(v) + ".png",
+            DrawHypotheses(source, target, result, static_cast<int>(v), /*max_candidates=*/6));
+    }
   }
   // Pairs of different views (the whole-image fallback may match every source view with every
   // target view): a correspondence picture for each pair that has correspondences.

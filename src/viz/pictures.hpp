@@ -10,7 +10,11 @@
 //   verification-view<i>.png    the geometric check (src/verify) in target view i: the target
 //                               image dimmed, each source depth sample where it lands, green
 //                               where the surfaces agree, red where it lies in the free space the
-//                               target camera saw through, yellow where it is hidden behind.
+//                               target camera saw through, yellow where it is hidden behind;
+//   hypotheses-view<i>.png      when several candidate transforms were checked (issue 12): the
+//                               registered clouds under the chosen one and its runners-up (best
+//                               verification score first), each captioned with its source, score
+//                               and whether the check passed.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -31,6 +35,10 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
                              const Transform& T_target_source, int view);
 cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
                          const VerifyConfig& config, int view);
+
+// The chosen candidate and up to max_candidates - 1 runners-up, two registered-cloud tiles a row.
+cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,
+                       int view, int max_candidates);
 
 // Writes the pictures above for every view pair into `dir` (created if needed) and returns the
 // file paths. Throws InputError if the folder cannot be written.

@@ -191,7 +191,8 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) return found;
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification)-view([0-9]+)(?:-([0-9]+))?\\.(png|jpg)");
+      "(objects|correspondences|registered|verification|hypotheses)-view([0-9]+)(?:-([0-9]+))?\\.("
+      "png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
@@ -200,7 +201,11 @@ std::vector<Picture> FindPictures(const std::string& dir) {
     found.push_back({m[1], view, m[3].matched ? std::stoi(m[3]) : view, entry.path().string()});
   }
   auto rank = [](const std::string& kind) {
-    return kind == "objects" ? 0 : kind == "correspondences" ? 1 : kind == "registered" ? 2 : 3;
+    return kind == "objects"           ? 0
+           : kind == "correspondences" ? 1
+           : kind == "registered"      ? 2
+           : kind == "verification"    ? 3
+                                       : 4;
   };
   std::sort(found.begin(), found.end(), [&](const Picture& a, const Picture& b) {
     return std::make_tuple(a.view, rank(a.kind), a.target_view) <
@@ -216,6 +221,10 @@ std::string PictureCaption(const std::string& kind) {
   if (kind == "verification") {
     return "geometric check in the target view (green: surfaces agree, red: source in the target "
            "camera's free space, yellow: hidden behind)";
+  }
+  if (kind == "hypotheses") {
+    return "the candidate transforms the check judged: the chosen one first, then the runners-up "
+           "by score (registered clouds, target blue, source orange)";
   }
   return "registered clouds in the target view (target blue, source orange)";
 }

@@ -90,5 +90,39 @@ TEST(Pictures, VerificationPictureShowsAgreementAndFreeSpace) {
   EXPECT_EQ(red_same, 0);
 }
 
+TEST(Pictures, HypothesesShowTheChosenCandidateFirstThenTheRunnersUp) {
+  const Scan source = GreyScan("s", 1, 40), target = GreyScan("t", 1, 100);
+  RegistrationResult result;
+  Transform shifted = Transform::Identity();
+  shifted(0, 3) = 5.0;  // moves the source out of the target camera's view
+  result.candidates = {{"object ransac", shifted, 0.1, false, false},
+                       {"geometry clique icp", Transform::Identity(), 0.6, true, true},
+                       {"image clique", shifted, 0.3, false, false}};
+  const cv::Mat picture = DrawHypotheses(source, target, result, 0, 6);
+  ASSERT_EQ(picture.cols, 2 * 160);  // two tiles a row
+  ASSERT_EQ(picture.rows, 2 * 120);  // three candidates: two rows
+  // Top left is the chosen identity: the source (orange) covers the flat target's pixels; the
+  // candidates that moved the source away show the target alone (blue), and the fourth tile is
+  // empty (white).
+  const cv::Vec3b orange(30, 140, 250), blue(200, 120, 30), white(255, 255, 255);
+  int orange_chosen = 0, orange_runner_up = 0, blue_runner_up = 0;
+  for (int y = 10; y < 80; ++y) {
+    for (int x = 10; x < 150; ++x) {
+      orange_chosen += picture.at<cv::Vec3b>(y, x) == orange;
+      orange_runner_up += picture.at<cv::Vec3b>(y, 160 + x) == orange;
+      blue_runner_up += picture.at<cv::Vec3b>(y, 160 + x) == blue;
+    }
+  }
+  EXPECT_GT(orange_chosen, 1000);
+  EXPECT_EQ(orange_runner_up, 0);
+  EXPECT_GT(blue_runner_up, 1000);
+  EXPECT_EQ(picture.at<cv::Vec3b>(120 + 40, 160 + 80), white);
+  // With a choice to show, WriteRegistrationPictures writes it.
+  const fs::path dir = fs::path(::testing::TempDir()) / "zeroreg-pictures-hypotheses";
+  fs::remove_all(dir);
+  WriteRegistrationPictures(dir.string(), source, target, result);
+  EXPECT_TRUE(fs::exists(dir / "hypotheses-view0.png"));
+}
+
 }  // namespace
 }  // namespace zeroreg

@@ -1,0 +1,59 @@
+// Several hypotheses, one judge (issue 12, item 1). The method's own estimate comes from the
+// correspondences inside matched objects (paper §3.4) or, failing that, from whole-image
+// correspondences. At wide baselines both can be wrong or missing while another source is right, so
+// further candidate transforms are made from
+//   (a) the object correspondences again, with the low-inlier estimator,
+//   (b) the whole-image correspondences, with the low-inlier estimator,
+//   (c) the scans' geometry: FPFH on the depth clouds, mutual nearest neighbours in feature space,
+//   (d) object centroids: every same-label object pair of the two scans,
+// each estimated, checked by the geometric verification and refined exactly as the method's own
+// estimate is (register.cpp supplies that as the JudgeFn). The best verified one is returned; all
+// are listed in RegistrationResult::candidates and the winner's source is RegistrationResult::path.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "pipeline/stage_timer.hpp"
+#include "zeroreg/config.hpp"
+#include "zeroreg/types.hpp"
+
+namespace zeroreg {
+
+// Estimates a transform from `correspondences` under `effective`, applies the geometric check and
+// the ICP refinement, and returns the finished result with path = `path`.
+using JudgeFn = std::function<RegistrationResult(const std::string& path,
+                                                 std::vector<Correspondence> correspondences,
+                                                 const PipelineConfig& effective)>;
+
+// What the method's own run leaves for the extra sources.
+struct HypothesisInputs {
+  std::vector<Correspondence> object_correspondences;  // (a); empty on the image path
+  // (b): computes (or returns the cached) whole-image correspondences; null when unavailable.
+  std::function<std::vector<Correspondence>()> whole_image;
+  // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
+  bool whole_image_tried = false;
+};
+
+// Whether the extra sources run for this result (hypotheses.enabled, verification on, and the
+// result not valid unless hypotheses.always).
+bool WantMoreHypotheses(const PipelineConfig& config, const RegistrationResult& result);
+
+// Runs the enabled sources, judges each with `judge`, and replaces *result by the best valid one
+// (a valid result beats an invalid one, then the higher verification score wins; ties keep
+// *result); an invalid hypothesis never replaces *result. The
+// candidates of every source are appended to result->candidates; the winner's reason says which
+// sources it beat and their scores. Each source's time is added to `timer` as "hypothesis <name>".
+void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineConfig& config,
+                         const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
+                         RegistrationResult* result);
+
+// (c) alone: FPFH correspondences between the two scans' geometry (exposed for tests).
+std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Scan& target,
+                                                    const PipelineConfig& config);
+
+// (d) alone: one centroid correspondence per same-label object pair, plus every matched pair.
+std::vector<Correspondence> ObjectPairCorrespondences(const RegistrationResult& result);
+
+}  // namespace zeroreg

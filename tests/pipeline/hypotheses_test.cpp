@@ -1,0 +1,158 @@
+// Issue 12, item 1: the extra hypothesis sources and the judge, against ground truth.
+#include "pipeline/hypotheses.hpp"
+
+#include <gtest/gtest.h>
+
+#include "estimate/max_clique.hpp"
+#include "eval/metrics.hpp"
+#include "test_paths.hpp"
+#include "zeroreg/error.hpp"
+#include "zeroreg/io.hpp"
+#include "zeroreg/json.hpp"
+#include "zeroreg/register.hpp"
+
+namespace zeroreg {
+namespace {
+
+Scan Frame(int id) { return LoadScan(testing::RedkitchenDir() + "@" + std::to_string(id)); }
+
+Transform GroundTruth(const Scan& source, const Scan& target) {
+  return target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
+}
+
+Transform MakeTransform(double angle_rad, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
+  Transform T = Transform::Identity();
+  T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
+  T.topRightCorner<3, 1>() = t;
+  return T;
+}
+
+ObjectSummary Object(const std::string& label, const Eigen::Vector3d& centroid) {
+  ObjectSummary o;
+  o.label = label;
+  o.centroid = centroid;
+  return o;
+}
+
+TEST(ObjectPairCorrespondences, KeepsEverySameLabelPairSoASwappedMatchLeavesTheRightOnesIn) {
+  // Two chairs and a table seen in both scans, the chairs matched the wrong way round.
+  const Transform T = MakeTransform(0.8, {0, 0, 1}, {1.0, -0.5, 0.2});
+  const std::vector<Eigen::Vector3d> places = {{0, 0, 1}, {1.5, 0, 1}, {0.7, 1.2, 0.8}};
+  RegistrationResult r;
+  r.source_objects = {Object("chair", places[0]), Object("chair", places[1]),
+                      Object("dining table", places[2])};
+  for (const Eigen::Vector3d& p : places) {
+    const Eigen::Vector3d q = (T * p.homogeneous()).head<3>();
+    r.target_objects.push_back(Object("", q));
+  }
+  r.target_objects[0].label = r.target_objects[1].label = "chair";
+  r.target_objects[2].label = "dining table";
+  r.object_matches = {{0, 1, 2.0, 0}, {1, 0, 2.0, 0}, {2, 2, 2.0, 0}};  // chairs swapped
+  const std::vector<Correspondence> c = ObjectPairCorrespondences(r);
+  ASSERT_EQ(c.size(), 5u);  // 2 x 2 chairs + 1 table
+  // The clique estimator on them finds T (the swapped pairs are not length-consistent with it).
+  std::vector<Eigen::Vector3d> s, t;
+  for (const Correspondence& x : c) {
+    s.push_back(x.source);
+    t.push_back(x.target);
+  }
+  RansacConfig config;
+  config.estimator = "clique";
+  config.inlier_threshold_m = 0.3;
+  const RansacResult e = EstimateRigid(s, t, {}, config, 0);
+  ASSERT_TRUE(e.found);
+  EXPECT_EQ(e.num_inliers, 3);
+  EXPECT_LT(RotationErrorDeg(e.T_target_source, T), 1e-6);
+  EXPECT_LT(TranslationErrorM(e.T_target_source, T), 1e-6);
+}
+
+TEST(GeometryCorrespondences, FpfhAndTheCliqueRecoverAKnownMotionOfARealFrame) {
+  // The target is the same real frame with its scan frame moved by a known rigid motion, so the
+  // truth is exact; the voxel grids of the two clouds differ, as between two real scans.
+  const Scan source = Frame(0);
+  Scan target = source;
+  const Transform T = MakeTransform(0.6, {0.2, 1, 0.1}, {0.4, -0.2, 0.3});
+  for (View& v : target.views) v.T_scan_camera = T * v.T_scan_camera;
+  PipelineConfig config;
+  const std::vector<Correspondence> c = GeometryCorrespondences(source, target, config);
+  ASSERT_GT(c.size(), 100u);
+  std::vector<Eigen::Vector3d> s, t;
+  std::vector<float> scores;
+  int right = 0;
+  for (const Correspondence& x : c) {
+    s.push_back(x.source);
+    t.push_back(x.target);
+    scores.push_back(x.score);
+    right += ((T * x.source.homogeneous()).head<3>() - x.target).norm() < 0.075;
+  }
+  RansacConfig estimator;
+  estimator.estimator = "clique";
+  estimator.inlier_threshold_m = 0.075;  // 1.5 voxels, as the geometry hypothesis uses
+  const RansacResult e = EstimateRigid(s, t, scores, estimator, 0);
+  ASSERT_TRUE(e.found) << right << " of " << c.size() << " right";
+  EXPECT_LT(RotationErrorDeg(e.T_target_source, T), 2.0);
+  EXPECT_LT(TranslationErrorM(e.T_target_source, T), 0.05);
+}
+
+TEST(Hypotheses, OffByDefaultAndNeverValidWithoutTheCheck) {
+  PipelineConfig config;
+  RegistrationResult invalid;
+  EXPECT_FALSE(WantMoreHypotheses(config, invalid));  // default off
+  config.hypotheses.enabled = true;
+  EXPECT_TRUE(WantMoreHypotheses(config, invalid));
+  config.verify.enabled = false;  // no judge, no hypotheses
+  EXPECT_FALSE(WantMoreHypotheses(config, invalid));
+  config.verify.enabled = true;
+  RegistrationResult valid;
+  valid.valid = true;
+  EXPECT_FALSE(WantMoreHypotheses(config, valid));
+  config.hypotheses.always = true;
+  EXPECT_TRUE(WantMoreHypotheses(config, valid));
+}
+
+TEST(Hypotheses, EstimatorNamesAreCheckedWhereTheyEnter) {
+  for (const char* key : {"ransac.estimator", "hypotheses.estimator"}) {
+    PipelineConfig config;
+    try {
+      ApplyConfigOverride(std::string(key) + "=teaser", &config);
+      FAIL() << key << ": expected InputError";
+    } catch (const InputError& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(key), std::string::npos) << m;
+      EXPECT_NE(m.find("teaser"), std::string::npos) << m;
+      EXPECT_NE(m.find("\"clique\""), std::string::npos) << m;
+    }
+  }
+  PipelineConfig config;
+  ApplyConfigOverride("ransac.estimator=clique", &config);
+  EXPECT_EQ(config.ransac.estimator, "clique");
+}
+
+TEST(Hypotheses, RealPairEveryCandidateListedAndTheWinnerIsVerified) {
+  // A redkitchen pair 20 frames apart: every source runs (always), each candidate is listed with
+  // its check, the winner is right and valid only because its check passed.
+  const Scan source = Frame(420), target = Frame(400);
+  PipelineConfig config;
+  config.hypotheses.enabled = true;
+  config.hypotheses.always = true;
+  const RegistrationResult r = Register(source, target, config);
+  const Transform gt = GroundTruth(source, target);
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_TRUE(r.verification.passed);
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
+  bool geometry = false, chosen = false;
+  for (const CandidateSummary& c : r.candidates) {
+    geometry |= c.name.rfind("geometry", 0) == 0;
+    if (c.chosen) {
+      chosen = true;
+      EXPECT_TRUE(c.passed) << c.name;
+    }
+  }
+  EXPECT_TRUE(geometry);
+  EXPECT_TRUE(chosen);
+  EXPECT_NE(r.reason.find("[hypotheses:"), std::string::npos) << r.reason;
+}
+
+}  // namespace
+}  // namespace zeroreg
