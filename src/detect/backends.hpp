@@ -32,28 +32,26 @@ class YoloxDetector : public Detector {
   std::string onnx_path_;
 };
 
-// PP-PicoDet-S 416, COCO-80, ONNX (models/picodet_s_416_coco/MANIFEST.md), run on OpenCV DNN from
-// the Clip-rewritten export (scripts/rewrite_onnx_clip.py). Pre- and post-processing live in
-// detect/picodet_codec.hpp; Forward is the only engine-specific step. Labels are reported in the
-// COCO-2017 spellings (CocoSpelling), class_id is the row of the COCO-80 list (same order as
-// YOLOX's).
+// PP-PicoDet-S 416, COCO-80, ONNX (models/picodet_s_416_coco/MANIFEST.md), run on the engine of
+// inference.engine: ONNX Runtime loads the verbatim export (`onnx_path`), OpenCV DNN the
+// Clip-rewritten copy (`opencv_onnx_path`, scripts/rewrite_onnx_clip.py); only the path of the
+// chosen engine is read. Pre- and post-processing live in detect/picodet_codec.hpp and are shared
+// by both engines. Labels are reported in the COCO-2017 spellings (CocoSpelling), class_id is the
+// row of the COCO-80 list (same order as YOLOX's).
 class PicodetDetector : public Detector {
  public:
-  PicodetDetector(const std::string& onnx_path, const std::string& classes_path,
-                  const DetectorConfig& config);
+  PicodetDetector(const std::string& onnx_path, const std::string& opencv_onnx_path,
+                  const std::string& classes_path, const DetectorConfig& config,
+                  const InferenceConfig& inference = {});
   std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
   std::string name() const override { return "picodet"; }
 
  private:
-  // The network's 8 outputs for one input blob, copied out of the net's buffers.
-  std::vector<cv::Mat> Forward(const cv::Mat& blob);
-
-  cv::dnn::Net net_;
-  std::mutex net_mutex_;  // as YoloxDetector's
-  std::vector<std::string> output_names_;
+  std::unique_ptr<OnnxModel> model_;       // thread-safe Run: one Pipeline, many threads
+  std::vector<std::string> output_names_;  // all 8, told apart by shape in PicodetDecode
   std::vector<std::string> classes_;
   DetectorConfig config_;
-  std::string onnx_path_;
+  std::string onnx_path_;  // the file of the chosen engine
 };
 
 // Several detectors on the same image (backend "ensemble": YOLOX-Nano, then PicoDet): their

@@ -30,14 +30,15 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
                                              paths.darknet_classes, config);
   }
   if (config.backend == "picodet") {
-    return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_classes, config);
+    return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_opencv_onnx,
+                                             paths.picodet_classes, config, inference);
   }
   if (config.backend == "ensemble") {
     std::vector<std::unique_ptr<Detector>> members;
     members.push_back(
-        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config));
-    members.push_back(
-        std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_classes, config));
+        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config, inference));
+    members.push_back(std::make_unique<PicodetDetector>(
+        paths.picodet_onnx, paths.picodet_opencv_onnx, paths.picodet_classes, config, inference));
     return std::make_unique<EnsembleDetector>(std::move(members), config);
   }
   if (config.backend == "file") return std::make_unique<FileDetector>(config);

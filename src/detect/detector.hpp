@@ -22,13 +22,14 @@ struct Detection {
 // Model files, already resolved and verified by the caller (the pipeline); only those of the
 // chosen backend are read.
 struct DetectorModelPaths {
-  std::string yolox_onnx;       // yolox_nano_coco/yolox_nano.onnx
-  std::string yolox_classes;    // yolox_nano_coco/coco_classes.txt
-  std::string darknet_cfg;      // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg
-  std::string darknet_weights;  // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights
-  std::string darknet_classes;  // yolo_fastest_1.1_xl_coco/coco_classes.txt
-  std::string picodet_onnx;     // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx
-  std::string picodet_classes;  // picodet_s_416_coco/coco.names (VOC spellings, mapped on load)
+  std::string yolox_onnx;           // yolox_nano_coco/yolox_nano.onnx
+  std::string yolox_classes;        // yolox_nano_coco/coco_classes.txt
+  std::string darknet_cfg;          // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg
+  std::string darknet_weights;      // yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights
+  std::string darknet_classes;      // yolo_fastest_1.1_xl_coco/coco_classes.txt
+  std::string picodet_onnx;         // picodet_s_416_coco/picodet_s_416_coco.onnx (ONNX Runtime)
+  std::string picodet_opencv_onnx;  // picodet_s_416_coco/picodet_s_416_coco.opencv.onnx (OpenCV)
+  std::string picodet_classes;      // picodet_s_416_coco/coco.names (VOC spellings, mapped on load)
 };
 
 class Detector {

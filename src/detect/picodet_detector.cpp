@@ -124,46 +124,48 @@ std::vector<Detection> PicodetDecode(const std::vector<cv::Mat>& outputs,
 
 }  // namespace detail
 
-PicodetDetector::PicodetDetector(const std::string& onnx_path, const std::string& classes_path,
-                                 const DetectorConfig& config)
-    : config_(config), onnx_path_(onnx_path) {
-  detail::RequireReadableFile(onnx_path, "PicoDet ONNX model");
+PicodetDetector::PicodetDetector(const std::string& onnx_path, const std::string& opencv_onnx_path,
+                                 const std::string& classes_path, const DetectorConfig& config,
+                                 const InferenceConfig& inference)
+    : config_(config) {
+  const InferenceEngine engine = ResolveEngine(inference);
+  // OpenCV 4.6 DNN refuses the shipped export (opset-11 Clip with min/max as inputs); ONNX Runtime
+  // loads it as is.
+  const bool opencv = engine == InferenceEngine::kOpenCv;
+  onnx_path_ = opencv ? opencv_onnx_path : onnx_path;
+  detail::RequireReadableFile(onnx_path_, "PicoDet ONNX model");
   for (const std::string& name : detail::ReadClassNames(classes_path)) {
     classes_.push_back(CocoSpelling(name));  // "diningtable" -> "dining table", as YOLOX says
   }
-  try {
-    net_ = cv::dnn::readNetFromONNX(onnx_path);
-  } catch (const cv::Exception& e) {
-    throw MakeInputError(onnx_path,
-                         std::string("cannot load as an ONNX network (expected the Clip-rewritten "
-                                     "PicoDet export that scripts/fetch-assets.sh makes): ") +
-                             e.what());
-  }
-  if (net_.empty()) throw MakeInputError(onnx_path, "ONNX network loaded empty");
-  net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-  net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
-  output_names_ = net_.getUnconnectedOutLayersNames();
-}
-
-std::vector<cv::Mat> PicodetDetector::Forward(const cv::Mat& blob) {
-  std::vector<cv::Mat> outputs;
-  try {
-    std::lock_guard<std::mutex> lock(net_mutex_);
-    net_.setInput(blob);
-    net_.forward(outputs, output_names_);
-    // clone: the outputs share the net's buffers, which the next forward overwrites.
-    for (cv::Mat& m : outputs) m = m.clone();
-  } catch (const cv::Exception& e) {
-    throw MakeInputError(onnx_path_, std::string("forward pass failed: ") + e.what());
-  }
-  return outputs;
+  model_ = LoadOnnxModel(onnx_path_,
+                         opencv ? "PicoDet ONNX model (expected the Clip-rewritten PicoDet export "
+                                  "that scripts/fetch-assets.sh makes)"
+                                : "PicoDet ONNX model (corrupt or not the PicoDet-S 416 export?)",
+                         engine, inference.threads);
+  output_names_ = model_->OutputNames();
 }
 
 std::vector<Detection> PicodetDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
   detail::RequireBgrImage(bgr, image_name);
   detail::PicodetLetterbox letterbox;
   const cv::Mat blob = detail::PicodetInput(bgr, &letterbox);
-  return detail::PicodetDecode(Forward(blob), letterbox, bgr.size(), classes_, config_, onnx_path_);
+  const std::vector<Tensor> tensors = model_->Run(
+      {{"image", {1, 3, detail::kPicodetInputSize, detail::kPicodetInputSize}, blob.ptr<float>()}},
+      output_names_);
+  // Views on the tensors (alive until the decode returns), as PicodetDecode takes cv::Mat.
+  std::vector<cv::Mat> outputs;
+  for (const Tensor& t : tensors) {
+    std::vector<int> dims(t.shape.begin(), t.shape.end());
+    size_t count = 1;
+    for (int d : dims) count *= static_cast<size_t>(std::max(d, 0));
+    if (dims.empty() || dims.size() > 4 || count != t.data.size()) {
+      outputs.emplace_back();  // not a [1, n, c] tensor: PicodetDecode names what is missing
+      continue;
+    }
+    outputs.emplace_back(static_cast<int>(dims.size()), dims.data(), CV_32F,
+                         const_cast<float*>(t.data.data()));
+  }
+  return detail::PicodetDecode(outputs, letterbox, bgr.size(), classes_, config_, onnx_path_);
 }
 
 EnsembleDetector::EnsembleDetector(std::vector<std::unique_ptr<Detector>> members,

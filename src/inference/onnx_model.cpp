@@ -70,6 +70,12 @@ class OpenCvModel : public OnnxModel {
     return out;
   }
 
+  std::vector<std::string> OutputNames() const override {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const std::vector<cv::String> names = net_.getUnconnectedOutLayersNames();
+    return std::vector<std::string>(names.begin(), names.end());
+  }
+
  private:
   std::string path_, what_;
   mutable cv::dnn::Net net_;
@@ -147,6 +153,15 @@ class OrtModel : public OnnxModel {
     } catch (const Ort::Exception& e) {
       throw MakeInputError(path_, "ONNX Runtime run of the " + what_ + " failed: " + e.what());
     }
+  }
+
+  std::vector<std::string> OutputNames() const override {
+    Ort::AllocatorWithDefaultOptions allocator;
+    std::vector<std::string> names;
+    for (size_t i = 0; i < session_->GetOutputCount(); ++i) {
+      names.emplace_back(session_->GetOutputNameAllocated(i, allocator).get());
+    }
+    return names;
   }
 
  private:

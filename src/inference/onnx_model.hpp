@@ -49,6 +49,8 @@ class OnnxModel {
   // fails (wrong input names or shapes, a missing output name).
   virtual std::vector<Tensor> Run(const std::vector<TensorInput>& inputs,
                                   const std::vector<std::string>& outputs) const = 0;
+  // Names of the model's graph outputs, in the model's order (what Run accepts in `outputs`).
+  virtual std::vector<std::string> OutputNames() const = 0;
 };
 
 // Loads the model at `path` for the engine of `config`. `what` names the model in errors

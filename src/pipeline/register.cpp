@@ -287,14 +287,23 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
 }
 
 // Model files of the configured detector, verified against the repo's sha256 list.
-DetectorModelPaths ResolveDetectorModels(const DetectorConfig& config, const std::string& assets) {
+// PicoDet: only the file of the configured engine (the verbatim export on ONNX Runtime, the
+// Clip-rewritten copy on OpenCV DNN).
+DetectorModelPaths ResolveDetectorModels(const DetectorConfig& config,
+                                         const InferenceConfig& inference,
+                                         const std::string& assets) {
   DetectorModelPaths paths;
   if (config.backend == "yolox" || config.backend == "ensemble") {
     paths.yolox_onnx = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
     paths.yolox_classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
   }
   if (config.backend == "picodet" || config.backend == "ensemble") {
-    paths.picodet_onnx = RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.opencv.onnx");
+    if (ResolveEngine(inference) == InferenceEngine::kOpenCv) {
+      paths.picodet_opencv_onnx =
+          RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.opencv.onnx");
+    } else {
+      paths.picodet_onnx = RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.onnx");
+    }
     paths.picodet_classes = RequireAsset(assets, "picodet_s_416_coco/coco.names");
   }
   if (config.backend == "darknet") {
@@ -438,7 +447,8 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
         *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs);
     return;
   }
-  m.detector = MakeDetector(config.detector, ResolveDetectorModels(config.detector, assets),
+  m.detector = MakeDetector(config.detector,
+                            ResolveDetectorModels(config.detector, config.inference, assets),
                             config.inference);
   SegmenterConfig segmenter = config.segmenter;
   segmenter.seed = config.seed;  // every random step derives its seed from the pipeline's

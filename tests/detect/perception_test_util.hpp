@@ -33,7 +33,8 @@ inline DetectorModelPaths ModelPaths() {
   p.darknet_cfg = AssetsDir() + "/yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.cfg";
   p.darknet_weights = AssetsDir() + "/yolo_fastest_1.1_xl_coco/yolo-fastest-1.1-xl.weights";
   p.darknet_classes = AssetsDir() + "/yolo_fastest_1.1_xl_coco/coco_classes.txt";
-  p.picodet_onnx = AssetsDir() + "/picodet_s_416_coco/picodet_s_416_coco.opencv.onnx";
+  p.picodet_onnx = AssetsDir() + "/picodet_s_416_coco/picodet_s_416_coco.onnx";
+  p.picodet_opencv_onnx = AssetsDir() + "/picodet_s_416_coco/picodet_s_416_coco.opencv.onnx";
   p.picodet_classes = AssetsDir() + "/picodet_s_416_coco/coco.names";
   return p;
 }

@@ -186,16 +186,22 @@ TEST(DetectPicodet, MissingOrCorruptModelNamesTheFile) {
   WriteText(dir.File("bad.onnx"), "not a protobuf");
   auto paths = ModelPaths();
   paths.picodet_onnx = dir.File("bad.onnx");
+  paths.picodet_opencv_onnx = dir.File("bad.onnx");
   ExpectInputError([&] { MakeDetector(Backend("picodet"), paths); }, {dir.File("bad.onnx")});
   ExpectInputError([&] { MakeDetector(Backend("ensemble"), paths); }, {dir.File("bad.onnx")});
+  InferenceConfig opencv;
+  opencv.engine = "opencv";
+  ExpectInputError([&] { MakeDetector(Backend("picodet"), paths, opencv); },
+                   {dir.File("bad.onnx")});
   paths = ModelPaths();
   paths.picodet_classes = dir.File("none.names");
   ExpectInputError([&] { MakeDetector(Backend("picodet"), paths); }, {"none.names"});
   // The shipped export (Clip with min/max as inputs) is what OpenCV 4.6 refuses: its error is
   // reported against the file with a hint at the rewrite.
   paths = ModelPaths();
-  paths.picodet_onnx = perception_test::AssetsDir() + "/picodet_s_416_coco/picodet_s_416_coco.onnx";
-  ExpectInputError([&] { MakeDetector(Backend("picodet"), paths); },
+  paths.picodet_opencv_onnx =
+      perception_test::AssetsDir() + "/picodet_s_416_coco/picodet_s_416_coco.onnx";
+  ExpectInputError([&] { MakeDetector(Backend("picodet"), paths, opencv); },
                    {"picodet_s_416_coco.onnx", "fetch-assets"});
 }
 

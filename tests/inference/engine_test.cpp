@@ -142,6 +142,30 @@ TEST(InferenceEngine, YoloxSameOnBothEngines) {
   EXPECT_GE(boxes, 6);  // frame 0 alone has 4 (detector_test)
 }
 
+// PicoDet: ONNX Runtime runs the verbatim export, OpenCV DNN the Clip-rewritten copy; both feed the
+// same PicodetInput / PicodetDecode.
+TEST(InferenceEngine, PicodetSameOnBothEngines) {
+  if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
+  const DetectorModelPaths paths = ModelPaths();
+  PicodetDetector cv_dnn(paths.picodet_onnx, paths.picodet_opencv_onnx, paths.picodet_classes,
+                         DetectorConfig{}, Engine("opencv"));
+  PicodetDetector ort(paths.picodet_onnx, paths.picodet_opencv_onnx, paths.picodet_classes,
+                      DetectorConfig{}, Engine("onnxruntime"));
+  int boxes = 0;
+  for (int frame : kFrames) {
+    const cv::Mat img = ReadFrame(frame);
+    const std::vector<Detection> a = cv_dnn.Detect(img, "a.jpg"), b = ort.Detect(img, "b.jpg");
+    ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
+    for (size_t i = 0; i < a.size(); ++i) {
+      EXPECT_EQ(a[i].label, b[i].label) << "frame " << frame << " box " << i;
+      EXPECT_GE(IoU(a[i].box, b[i].box), 0.99f) << "frame " << frame << " box " << i;
+      EXPECT_NEAR(a[i].score, b[i].score, 1e-3) << "frame " << frame << " box " << i;
+    }
+    boxes += static_cast<int>(a.size());
+  }
+  EXPECT_GE(boxes, 6);
+}
+
 // ONNX Runtime's CPU kernels split work across threads without changing any sum's order (and the
 // session asks for deterministic compute): 1 and 2 threads give bit-identical outputs.
 TEST(InferenceEngine, OnnxRuntimeOutputDoesNotDependOnThreads) {
