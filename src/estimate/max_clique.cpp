@@ -123,19 +123,6 @@ class CliqueSearch {
   long long budget_;
 };
 
-std::vector<int> InlierIndices(const Transform& T, const std::vector<Eigen::Vector3d>& source,
-                               const std::vector<Eigen::Vector3d>& target, double threshold_sq) {
-  std::vector<int> inliers;
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t = T.topRightCorner<3, 1>();
-  for (size_t i = 0; i < source.size(); ++i) {
-    if ((R * source[i] + t - target[i]).squaredNorm() < threshold_sq) {
-      inliers.push_back(static_cast<int>(i));
-    }
-  }
-  return inliers;
-}
-
 }  // namespace
 
 CliqueSearchResult MaximumClique(const std::vector<std::vector<int>>& adjacency,
@@ -244,27 +231,7 @@ RansacResult EstimateRigidClique(const std::vector<Eigen::Vector3d>& source,
   // The clique's members agree pairwise within 2 x the bound, not necessarily with one transform
   // within the bound: the inliers of the fit, over all correspondences, decide, refitted until
   // stable (the same final step as EstimateRigidRansac).
-  const double threshold_sq = config.inlier_threshold_m * config.inlier_threshold_m;
-  std::vector<int> inliers = InlierIndices(result.T_target_source, source, target, threshold_sq);
-  for (int round = 0; round < 10; ++round) {
-    Transform refined;
-    if (!FitRigidTransform(source, target, inliers, &refined)) break;
-    std::vector<int> refined_inliers = InlierIndices(refined, source, target, threshold_sq);
-    if (refined_inliers.size() < inliers.size()) break;  // never trade inliers for a refit
-    result.T_target_source = refined;
-    const bool stable = refined_inliers == inliers;
-    inliers = std::move(refined_inliers);
-    if (stable) break;
-  }
-  double sum_sq = 0;
-  const Eigen::Matrix3d R = result.T_target_source.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t = result.T_target_source.topRightCorner<3, 1>();
-  for (int i : inliers) {
-    result.is_inlier[i] = true;
-    sum_sq += (R * source[i] + t - target[i]).squaredNorm();
-  }
-  result.num_inliers = static_cast<int>(inliers.size());
-  result.inlier_rmse = inliers.empty() ? 0.0 : std::sqrt(sum_sq / inliers.size());
+  RefitOnInliers(source, target, config.inlier_threshold_m, &result);
   return result;
 }
 

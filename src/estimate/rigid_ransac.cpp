@@ -75,6 +75,33 @@ std::vector<int> InlierIndices(const Transform& T, const std::vector<Eigen::Vect
 
 }  // namespace
 
+void RefitOnInliers(const std::vector<Eigen::Vector3d>& source,
+                    const std::vector<Eigen::Vector3d>& target, double inlier_threshold_m,
+                    RansacResult* result_ptr) {
+  RansacResult& result = *result_ptr;
+  const double threshold_sq = inlier_threshold_m * inlier_threshold_m;
+  std::vector<int> inliers = InlierIndices(result.T_target_source, source, target, threshold_sq);
+  for (int round = 0; round < 10; ++round) {
+    Transform refined;
+    if (!FitRigidTransform(source, target, inliers, &refined)) break;
+    std::vector<int> refined_inliers = InlierIndices(refined, source, target, threshold_sq);
+    if (refined_inliers.size() < inliers.size()) break;  // never trade inliers for a refit
+    result.T_target_source = refined;
+    const bool stable = refined_inliers == inliers;
+    inliers = std::move(refined_inliers);
+    if (stable) break;
+  }
+  double sum_sq = 0;
+  const Eigen::Matrix3d R = result.T_target_source.topLeftCorner<3, 3>();
+  const Eigen::Vector3d t = result.T_target_source.topRightCorner<3, 1>();
+  for (int i : inliers) {
+    result.is_inlier[i] = true;
+    sum_sq += (R * source[i] + t - target[i]).squaredNorm();
+  }
+  result.num_inliers = static_cast<int>(inliers.size());
+  result.inlier_rmse = inliers.empty() ? 0.0 : std::sqrt(sum_sq / inliers.size());
+}
+
 RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& source,
                                  const std::vector<Eigen::Vector3d>& target,
                                  const RansacConfig& config, std::uint64_t seed) {
@@ -127,26 +154,7 @@ RansacResult EstimateRigidRansac(const std::vector<Eigen::Vector3d>& source,
   if (!result.found) return result;
 
   // Least-squares refit on the inliers until the set stops changing (a few rounds at most).
-  std::vector<int> inliers = InlierIndices(result.T_target_source, source, target, threshold_sq);
-  for (int round = 0; round < 10; ++round) {
-    Transform refined;
-    if (!FitRigidTransform(source, target, inliers, &refined)) break;
-    std::vector<int> refined_inliers = InlierIndices(refined, source, target, threshold_sq);
-    if (refined_inliers.size() < inliers.size()) break;  // never trade inliers for a refit
-    result.T_target_source = refined;
-    const bool stable = refined_inliers == inliers;
-    inliers = std::move(refined_inliers);
-    if (stable) break;
-  }
-  double sum_sq = 0;
-  const Eigen::Matrix3d R = result.T_target_source.topLeftCorner<3, 3>();
-  const Eigen::Vector3d t = result.T_target_source.topRightCorner<3, 1>();
-  for (int i : inliers) {
-    result.is_inlier[i] = true;
-    sum_sq += (R * source[i] + t - target[i]).squaredNorm();
-  }
-  result.num_inliers = static_cast<int>(inliers.size());
-  result.inlier_rmse = inliers.empty() ? 0.0 : std::sqrt(sum_sq / inliers.size());
+  RefitOnInliers(source, target, config.inlier_threshold_m, &result);
   return result;
 }
 

@@ -30,6 +30,13 @@ struct RansacResult {
   int iterations = 0;
 };
 
+// The final step of every estimator: the inliers of result->T_target_source (residual below
+// inlier_threshold_m over all correspondences), least-squares refits on them until the set stops
+// changing (never trading inliers for a refit), then is_inlier, num_inliers and inlier_rmse.
+void RefitOnInliers(const std::vector<Eigen::Vector3d>& source,
+                    const std::vector<Eigen::Vector3d>& target, double inlier_threshold_m,
+                    RansacResult* result);
+
 // RANSAC with 3-point samples, a rigidity pre-check on each sample (pairwise distances must agree
 // within 2 x inlier threshold), MSAC scoring, adaptive stopping at config.confidence, and a final
 // least-squares refit on the inliers repeated until the inlier set is stable.
