@@ -383,6 +383,10 @@ struct MethodConfig {
   // every target view. Scans made of several views far apart in time (fused fragments) often
   // overlap only between different views.
   bool whole_image_all_view_pairs = true;
+  // Which view pairs §3.4 matches inside a matched object pair: true = every view that sees the
+  // source object with every view that sees the target object (issue 12, "use all views of a
+  // scan"); false = view i with view i only. Frames (one view) are the same either way.
+  bool object_all_view_pairs = true;
 };
 
 // Several hypotheses, one judge (issue 12, src/pipeline/hypotheses.hpp): besides the method's own

@@ -12,13 +12,14 @@
 namespace zeroreg {
 
 // Calls body(begin, end) on disjoint chunks covering [0, n); returns when all are done. The first
-// exception thrown by a chunk is rethrown here (after every thread has joined).
+// exception thrown by a chunk is rethrown here (after every thread has joined). A chunk gets at
+// least `min_per_thread` items: the default suits cheap items (below a few thousand of them a
+// thread costs more than it saves, ~50 us to start one); pass 1 for a few expensive ones.
 template <typename Body>
-void ParallelFor(size_t n, int threads, const Body& body) {
-  // Below a few thousand cheap items a thread costs more than it saves (~50 us to start one).
-  constexpr size_t kMinPerThread = 1024;
-  const size_t chunks = std::max<size_t>(
-      1, std::min<size_t>(static_cast<size_t>(std::max(1, threads)), n / kMinPerThread));
+void ParallelFor(size_t n, int threads, const Body& body, size_t min_per_thread = 1024) {
+  const size_t chunks =
+      std::max<size_t>(1, std::min<size_t>(static_cast<size_t>(std::max(1, threads)),
+                                           n / std::max<size_t>(1, min_per_thread)));
   if (chunks <= 1) {
     body(size_t{0}, n);
     return;

@@ -1,6 +1,9 @@
 #include "pipeline/image_correspondences.hpp"
 
 #include <algorithm>
+#include <utility>
+
+#include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
 
@@ -29,19 +32,34 @@ int CountKeypoints(const std::vector<LiftedFeatures>& views) {
 
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
-                      bool all_view_pairs, std::vector<Correspondence>* out) {
+                      bool all_view_pairs, int threads, std::vector<Correspondence>* out) {
+  std::vector<std::pair<int, int>> view_pairs;
   for (size_t vs = 0; vs < source.size(); ++vs) {
     for (size_t vt = 0; vt < target.size(); ++vt) {
-      if (!all_view_pairs && vs != vt) continue;
-      const LiftedFeatures& a = source[vs];
-      const LiftedFeatures& b = target[vt];
-      for (const DescriptorMatch& m :
-           matcher.Match(a.features.descriptors, b.features.descriptors)) {
-        out->push_back({a.points[m.source], b.points[m.target], a.features.keypoints[m.source],
-                        b.features.keypoints[m.target], static_cast<int>(vs), static_cast<int>(vt),
-                        m.score});
-      }
+      if (all_view_pairs || vs == vt) view_pairs.emplace_back(vs, vt);
     }
+  }
+  // A fragment pair has 9 view pairs of a few thousand keypoints each: one Sinkhorn per pair is
+  // most of its matching time (issue 13), so the pairs are shared among the threads.
+  std::vector<std::vector<Correspondence>> per_pair(view_pairs.size());
+  ParallelFor(
+      view_pairs.size(), threads,
+      [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+          const auto [vs, vt] = view_pairs[k];
+          const LiftedFeatures& a = source[static_cast<size_t>(vs)];
+          const LiftedFeatures& b = target[static_cast<size_t>(vt)];
+          for (const DescriptorMatch& m :
+               matcher.Match(a.features.descriptors, b.features.descriptors)) {
+            per_pair[k].push_back({a.points[m.source], b.points[m.target],
+                                   a.features.keypoints[m.source], b.features.keypoints[m.target],
+                                   vs, vt, m.score});
+          }
+        }
+      },
+      /*min_per_thread=*/1);
+  for (const std::vector<Correspondence>& matches : per_pair) {
+    out->insert(out->end(), matches.begin(), matches.end());
   }
 }
 

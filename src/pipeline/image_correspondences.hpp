@@ -22,9 +22,11 @@ LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const Vi
 int CountKeypoints(const std::vector<LiftedFeatures>& views);
 
 // Matches the views' features over the whole images and appends the 3D correspondences: view i
-// with view i, or (all_view_pairs) every source view with every target view.
+// with view i, or (all_view_pairs) every source view with every target view, in that order. The
+// view pairs are matched on up to `threads` threads (each pair is independent and its matches
+// are appended in the same order, so the result does not depend on the thread count).
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
-                      bool all_view_pairs, std::vector<Correspondence>* out);
+                      bool all_view_pairs, int threads, std::vector<Correspondence>* out);
 
 }  // namespace zeroreg

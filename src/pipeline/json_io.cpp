@@ -206,6 +206,7 @@ void Visit(V& v, MethodConfig& c) {
   v("min_object_matches", c.min_object_matches, AtLeast(0));
   v("min_object_correspondences", c.min_object_correspondences, AtLeast(0));
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
+  v("object_all_view_pairs", c.object_all_view_pairs);
 }
 template <typename V>
 void Visit(V& v, HypothesesConfig& c) {

@@ -55,16 +55,6 @@ std::vector<ObjectSummary> Summarise(const SceneObjects& scene) {
   return out;
 }
 
-// The observation of `object` in `view`, or null (association never merges two observations of
-// the same view, so there is at most one).
-const ObjectObservation* ObservationInView(const SceneObjects& scene, const SceneObject& object,
-                                           int view) {
-  for (int i : object.observations) {
-    if (scene.observations[i].view == view) return &scene.observations[i];
-  }
-  return nullptr;
-}
-
 }  // namespace
 
 void SemanticMatrices(const std::vector<SceneObject>& source,
@@ -225,27 +215,33 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     return result;
   }
 
-  // §3.4: point matches inside every matched pair, view i with view i.
-  std::set<std::tuple<int, int, int>> seen;  // (view, source row, target row): masks may overlap
+  // §3.4: point matches inside every matched pair. A scan of several views (a fragment) may see
+  // an object in some views only, and the two scans' views need not correspond one to one: every
+  // view of the source object is matched with every view of the target object
+  // (method.object_all_view_pairs; otherwise view i with view i only). A single-view scan has one
+  // pair either way.
+  const bool all_pairs = config_.method.object_all_view_pairs;
+  // (source view, source row, target view, target row): masks may overlap.
+  std::set<std::tuple<int, int, int, int>> seen;
   for (const ObjectPair& pair : pairs) {
     ObjectMatchSummary summary{pair.source, pair.target, pair.node_similarity, 0};
-    const size_t views = std::min(s.view_features.size(), t.view_features.size());
-    for (size_t v = 0; v < views; ++v) {
-      const ObjectObservation* os = ObservationInView(s.objects, objects_s[pair.source], v);
-      const ObjectObservation* ot = ObservationInView(t.objects, objects_t[pair.target], v);
-      if (os == nullptr || ot == nullptr) continue;
-      const LiftedFeatures& fs = s.view_features[v];
-      const LiftedFeatures& ft = t.view_features[v];
-      const std::vector<int>& rows_s = s.observation_rows[os - s.objects.observations.data()];
-      const std::vector<int>& rows_t = t.observation_rows[ot - t.objects.observations.data()];
-      const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
-      for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors)) {
-        const int a = rows_s[m.source], b = rows_t[m.target];
-        if (!seen.emplace(static_cast<int>(v), a, b).second) continue;
-        result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],
-                                          ft.features.keypoints[b], static_cast<int>(v),
-                                          static_cast<int>(v), m.score});
-        ++summary.num_correspondences;
+    for (int is : objects_s[pair.source].observations) {
+      for (int it : objects_t[pair.target].observations) {
+        const ObjectObservation& os = s.objects.observations[is];
+        const ObjectObservation& ot = t.objects.observations[it];
+        if (!all_pairs && os.view != ot.view) continue;
+        const LiftedFeatures& fs = s.view_features[os.view];
+        const LiftedFeatures& ft = t.view_features[ot.view];
+        const std::vector<int>& rows_s = s.observation_rows[is];
+        const std::vector<int>& rows_t = t.observation_rows[it];
+        const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
+        for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors)) {
+          const int a = rows_s[m.source], b = rows_t[m.target];
+          if (!seen.emplace(os.view, a, ot.view, b).second) continue;
+          result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],
+                                            ft.features.keypoints[b], os.view, ot.view, m.score});
+          ++summary.num_correspondences;
+        }
       }
     }
     result.object_matches.push_back(summary);
@@ -255,10 +251,11 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
 
   const DescriptorMatcher& matcher = matcher_;
   const bool all_view_pairs = config_.method.whole_image_all_view_pairs;
-  result.whole_image_fallback = [perceived_s, perceived_t, &matcher, all_view_pairs]() {
+  const int threads = config_.threads;
+  result.whole_image_fallback = [perceived_s, perceived_t, &matcher, all_view_pairs, threads]() {
     std::vector<Correspondence> all;
     MatchWholeImages(perceived_s->view_features, perceived_t->view_features, matcher,
-                     all_view_pairs, &all);
+                     all_view_pairs, threads, &all);
     return all;
   };
   // Too little from the objects to even try: go to the whole images straight away.

@@ -106,9 +106,42 @@ TEST(RegisterReal, WholeImageMatchingPairsDifferentViewsWhenOnlyTheyOverlap) {
   EXPECT_LT(TranslationErrorM(image.T_target_source, gt), 0.10);
   EXPECT_GT(CrossViewInliers(image), image.num_inliers / 2);
 
+  // The four view pairs are matched on two threads by default; one thread gives the same bits.
+  PipelineConfig one_thread = config;
+  one_thread.threads = 1;
+  const RegistrationResult serial = Register(source, target, one_thread);
+  ASSERT_EQ(serial.correspondences.size(), r.correspondences.size());
+  for (size_t i = 0; i < r.correspondences.size(); ++i) {
+    ASSERT_EQ(serial.correspondences[i].source, r.correspondences[i].source) << i;
+    ASSERT_EQ(serial.correspondences[i].target, r.correspondences[i].target) << i;
+    ASSERT_EQ(serial.correspondences[i].view, r.correspondences[i].view) << i;
+  }
+  EXPECT_TRUE((serial.T_target_source.array() == r.T_target_source.array()).all());
+
   config.method.whole_image_all_view_pairs = false;  // view i with view i only
   const RegistrationResult same = Register(source, target, config);
   for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
+}
+
+// Issue 12, item 3: the object level matches a matched object in every view that sees it, not
+// only view i with view i. With the views crossed as above, the objects' correspondences (and the
+// inliers) come from the crossed view pairs; with object_all_view_pairs off there are none there.
+TEST(RegisterReal, ObjectLevelMatchesEveryViewPairThatSeesTheObject) {
+  const Scan source = TwoViewScan(520, 20), target = TwoViewScan(0, 500);
+  const Transform gt = GroundTruth(source, target);
+  const RegistrationResult r = Register(source, target);
+  ASSERT_EQ(r.path, "object") << r.reason;
+  EXPECT_TRUE(r.valid) << r.reason;
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
+  EXPECT_GT(CrossViewInliers(r), r.num_inliers / 2);
+
+  PipelineConfig same_view;
+  same_view.method.object_all_view_pairs = false;
+  const RegistrationResult same = Register(source, target, same_view);
+  if (same.path == "object") {
+    for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
+  }
 }
 
 TEST(RegisterReal, SameInputAndSeedGiveTheSameOutputBitForBit) {
