@@ -15,6 +15,14 @@
 #     registering them one by one in one process does), whole-process wall time and peak RSS of
 #     each, and the ratio.
 #
+#   bash scripts/bench-speed.sh fragments [K=6] [RUNS=3]
+#     K fragment pairs of 3DMatch / 3DLoMatch redkitchen (evenly spread over the two gt.log files
+#     of ../shared/data/3dmatch-gt, half from each), each registered RUNS times as its own process
+#     (`zeroreg register -s FRAGMENT -t FRAGMENT --timings`) after one warm-up: median of every
+#     stage, of the in-process total and of the whole process, and the peak RSS. The fragments
+#     come from the cache `zeroreg eval 3dmatch` fills (FRAGMENTS, default
+#     cache/fragments/7-scenes-redkitchen; `zeroreg eval 3dmatch ... --fuse-only` fills it).
+#
 # Extra options after the positional ones go to every zeroreg (e.g. --set threads=1).
 # Environment: ZEROREG_BIN (default build/zeroreg), LISTS_DIR (../shared/lists), DATA
 # (../shared/data). Timings on a shared machine are noisy: compare medians of a run, not runs.
@@ -149,6 +157,57 @@ elif mode == "eval":
         print(f"  {name:18s} {row[0][0]:9.2f} {row[1][0]:10.2f} {row[0][0] / row[1][0]:6.2f} "
               f"{row[0][2]:6.1f} {row[1][2]:8.1f} {row[0][2] / row[1][2]:6.2f} "
               f"{row[0][1]:7.0f} {row[1][1]:8.0f}")
+elif mode == "fragments":
+    k, runs = (int(x) for x in positional(2, ["6", "3"]))
+    fragments = os.environ.get("FRAGMENTS", "cache/fragments/7-scenes-redkitchen")
+    gt_root = f"{data_dir}/3dmatch-gt"
+    chosen = []
+    for bench, count in (("3DMatch", (k + 1) // 2), ("3DLoMatch", k // 2)):
+        log = f"{gt_root}/{bench}/7-scenes-redkitchen/gt.log"
+        if not os.path.isfile(log):
+            sys.exit(f"bench-speed.sh: {log} not found; expected the 3DMatch ground truth")
+        rows = [l.split() for l in open(log)]
+        # Only pairs whose two fragments are fused (the suite fuses those of its pairs).
+        heads = [(int(r[0]), int(r[1])) for r in rows if len(r) == 3 and all(
+            os.path.isfile(f"{fragments}/fragment-{f}/scan.json") for f in (r[0], r[1]))]
+        if not heads:
+            sys.exit(f"bench-speed.sh: no {bench} pair has both fragments in {fragments}; fill "
+                     "the cache with `build/zeroreg eval 3dmatch --data ../shared/data/"
+                     "7scenes-redkitchen --gt ../shared/data/3dmatch-gt --out results/fuse "
+                     "--fuse-only`")
+        for p in sorted({round(i * (len(heads) - 1) / max(1, count - 1)) for i in range(count)}):
+            chosen.append((bench,) + heads[p])
+    out = tempfile.mkdtemp()
+    stages, walls, totals, rss_all = {}, [], [], []
+    first = chosen[0]
+    timed([binary, "register", "-s", f"{fragments}/fragment-{first[2]}", "-t",
+           f"{fragments}/fragment-{first[1]}"] + args)  # warm-up
+    per_pair = {}
+    for run in range(runs):
+        for bench, i, j in chosen:
+            result = f"{out}/r.json"
+            _, wall, rss = timed([binary, "register", "-s", f"{fragments}/fragment-{j}", "-t",
+                                  f"{fragments}/fragment-{i}", "--out", result] + args)
+            r = json.load(open(result))["result"]
+            for stage, ms in r["timings_ms"].items():
+                stages.setdefault(stage, []).append(ms)
+            walls.append(wall)
+            totals.append(r["timings_ms"]["total"])
+            rss_all.append(rss)
+            per_pair.setdefault((bench, i, j), []).append((wall, r["timings_ms"]["total"], rss,
+                                                           r["path"], r["valid"]))
+    print(f"{len(chosen)} fragment pairs x {runs} runs, options: {' '.join(args) or '(none)'}")
+    print("median wall time per stage of `zeroreg register` (ms, timings_ms):")
+    for stage, values in stages.items():
+        print(f"  {stage:14s} {median(values):8.1f}   (min {min(values):.1f}, max {max(values):.1f})")
+    print(f"\n  {'pair':22s} {'process s':>9s} {'in-process s':>12s} {'RSS MiB':>7s}  path, verdict")
+    for (bench, i, j), rows in per_pair.items():
+        print(f"  {bench + ' ' + str(j) + ' -> ' + str(i):22s} {median([w for w, *_ in rows]):9.2f} "
+              f"{median([t for _, t, *_ in rows]) / 1000:12.2f} {max(r for _, _, r, *_ in rows):7.0f}"
+              f"  {rows[0][3]}, {'valid' if rows[0][4] else 'invalid'}")
+    print(f"  {'all (median)':22s} {median(walls):9.2f} {median(totals) / 1000:12.2f} "
+          f"{max(rss_all):7.0f}")
+    print(f"load average now {os.getloadavg()[0]:.1f}")
 else:
-    sys.exit(f"bench-speed.sh: unknown mode '{mode}'; expected pairs or eval")
+    sys.exit(f"bench-speed.sh: unknown mode '{mode}'; expected pairs, eval or fragments")
 PY
