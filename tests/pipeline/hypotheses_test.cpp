@@ -94,12 +94,13 @@ TEST(GeometryCorrespondences, FpfhAndTheCliqueRecoverAKnownMotionOfARealFrame) {
   EXPECT_LT(TranslationErrorM(e.T_target_source, T), 0.05);
 }
 
-TEST(Hypotheses, OffByDefaultAndNeverValidWithoutTheCheck) {
+TEST(Hypotheses, OnByDefaultOnlyForInvalidResultsAndNeverWithoutTheCheck) {
   PipelineConfig config;
   RegistrationResult invalid;
-  EXPECT_FALSE(WantMoreHypotheses(config, invalid));  // default off
+  EXPECT_TRUE(WantMoreHypotheses(config, invalid));  // default on
+  config.hypotheses.enabled = false;
+  EXPECT_FALSE(WantMoreHypotheses(config, invalid));
   config.hypotheses.enabled = true;
-  EXPECT_TRUE(WantMoreHypotheses(config, invalid));
   config.verify.enabled = false;  // no judge, no hypotheses
   EXPECT_FALSE(WantMoreHypotheses(config, invalid));
   config.verify.enabled = true;
