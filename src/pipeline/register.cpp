@@ -444,7 +444,8 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   m.matcher = MakeDescriptorMatcher(config.match);
   if (!config.method.object_level) {
     m.correspondence_source = std::make_unique<ImageCorrespondenceSource>(
-        *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs, config.threads);
+        *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs,
+        config.threads);
     return;
   }
   m.detector = MakeDetector(config.detector,
