@@ -285,6 +285,14 @@ struct RefineConfig {
   // above; anchor_weight_coarse / _fine then scale that weight and 0 still switches a stage's
   // anchors off.
   bool anchor_inverse_variance = false;
+  // Every closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), the inverse variance of
+  // the axial depth noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth
+  // readings (metres at 1 m; the structured-light model and value of VerifyConfig, Khoshelham &
+  // Elberink 2012), floored at 1 mm: near, precise readings count more than far ones, whose
+  // noise and calibration bias pulled ICP centimetres off the truth (docs/CONFIG.md, "Depth-noise
+  // weights"). Points of a fused cloud (no one reading) add no variance. 0 = equal weights.
+  double depth_noise_at_1m_m = 0.0015;
+  double depth_noise_exponent = 2.0;
   // No movement guard: with verification on, the refined transform is kept only when the
   // geometric check scores it at least as well as the estimate it started from.
 };

@@ -952,9 +952,16 @@ PYBIND11_MODULE(_zeroreg, m) {
         IcpResult icp;
         {
           py::gil_scoped_release release;
-          // Every other depth pixel, as the pipeline's refinement step.
-          icp = RefinePointToPlane(ScanPoints(s, /*stride=*/2), ScanPoints(t, /*stride=*/2),
-                                   initial, IcpSchedule(c.refine));
+          // Every other depth pixel with its depth reading, as the pipeline's refinement step.
+          const std::vector<IcpStage> stages = IcpSchedule(c.refine);
+          std::vector<double> source_depth, target_depth;
+          const std::vector<Eigen::Vector3d> source_points =
+              ScanPoints(s, /*stride=*/2, 0.0, 1e9, &source_depth);
+          const std::vector<Eigen::Vector3d> target_points =
+              ScanPoints(t, /*stride=*/2, 0.0, 1e9, &target_depth);
+          icp = RefinePointToPlane(IcpGeometry(source_points, stages, false, source_depth),
+                                   IcpGeometry(target_points, stages, true, target_depth), initial,
+                                   stages);
         }
         py::dict out;
         out["T_target_source"] = MatrixToNumpy(icp.T_target_source);

@@ -7,6 +7,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -29,6 +30,7 @@ struct IcpGeometry::Level {
   // Thinned points, with normals once MakeTargetReady ran. Mutable for that one write of the
   // normals (under target_once); the points never change, so sources may read them meanwhile.
   mutable open3d::geometry::PointCloud cloud;
+  std::vector<double> camera_depth;  // per thinned point; empty when unknown
 
   // Normals and k-d tree, made once however many threads ask (the thinned points stay as they
   // are: a source only reads them).
@@ -54,10 +56,17 @@ IcpGeometry::IcpGeometry(const IcpGeometry&) = default;
 IcpGeometry& IcpGeometry::operator=(const IcpGeometry&) = default;
 
 IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
-                         const std::vector<IcpStage>& stages, bool as_target) {
-  // The raw points are copied into an Open3D cloud once; each resolution thins that.
+                         const std::vector<IcpStage>& stages, bool as_target,
+                         const std::vector<double>& camera_depth) {
+  if (!camera_depth.empty() && camera_depth.size() != points.size()) {
+    throw std::invalid_argument("IcpGeometry: camera_depth must be empty or one per point");
+  }
+  // The raw points are copied into an Open3D cloud once; each resolution thins that. The depth
+  // readings ride in the colour channel, which the voxel filter averages exactly like the points.
   open3d::geometry::PointCloud raw;
   raw.points_ = points;
+  raw.colors_.reserve(camera_depth.size());
+  for (double d : camera_depth) raw.colors_.emplace_back(d, 0.0, 0.0);
   for (const IcpStage& stage : stages) {
     if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
     const bool built = std::any_of(levels_.begin(), levels_.end(),
@@ -66,6 +75,8 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
     auto level = std::make_shared<Level>();
     level->voxel_m = stage.voxel_m;
     level->cloud = *raw.VoxelDownSample(stage.voxel_m);
+    for (const Eigen::Vector3d& c : level->cloud.colors_) level->camera_depth.push_back(c.x());
+    level->cloud.colors_.clear();
     if (as_target) level->MakeTargetReady();
     levels_.push_back(std::move(level));
   }
@@ -82,7 +93,10 @@ size_t IcpGeometry::MemoryBytes() const {
   size_t bytes = 0;
   // Points and normals, plus the k-d tree's copy of the points and its nodes (about as much again;
   // counted whether or not they are made yet: what the scan holds once it was a target).
-  for (const auto& l : levels_) bytes += l->cloud.points_.size() * 4 * sizeof(Eigen::Vector3d);
+  for (const auto& l : levels_) {
+    bytes += l->cloud.points_.size() * 4 * sizeof(Eigen::Vector3d) +
+             l->camera_depth.size() * sizeof(double);
+  }
   return bytes;
 }
 
@@ -91,11 +105,26 @@ namespace {
 // Gauss-Newton steps of point-to-plane ICP at one resolution; updates *T and *result. The
 // closest-point search is the costly part and the only parallel one: each source point's
 // neighbour is found independently, then the sums run serially in point order.
-void RunStage(const std::vector<Eigen::Vector3d>& source,
-              const open3d::geometry::PointCloud& target, const open3d::geometry::KDTreeFlann& tree,
-              const IcpStage& stage, const IcpAnchors& anchors, int threads, Transform* T,
-              IcpResult* result) {
+void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& target_level,
+              const open3d::geometry::KDTreeFlann& tree, const IcpStage& stage,
+              const IcpAnchors& anchors, int threads, Transform* T, IcpResult* result) {
+  const std::vector<Eigen::Vector3d>& source = source_level.cloud.points_;
+  const open3d::geometry::PointCloud& target = target_level.cloud;
   const double gate_sq = stage.max_distance_m * stage.max_distance_m;
+  // Depth-noise weights: a pair's point-to-plane residual has about the variance of the two depth
+  // readings' axial noise (the normal is mostly along the view ray where the surface is seen
+  // well). Floored at 1 mm, the depth quantisation near the camera. A scan without readings (a
+  // fused cloud) adds no variance; with neither, every pair weighs the same.
+  const std::vector<double>& source_depth = source_level.camera_depth;
+  const std::vector<double>& target_depth = target_level.camera_depth;
+  const bool noise_weights =
+      stage.depth_noise_at_1m_m > 0 && (!source_depth.empty() || !target_depth.empty());
+  const auto depth_variance = [&](const std::vector<double>& depth, size_t i) {
+    if (depth.empty()) return 0.0;
+    const double sigma =
+        std::max(1e-3, stage.depth_noise_at_1m_m * std::pow(depth[i], stage.depth_noise_exponent));
+    return sigma * sigma;
+  };
   std::vector<Eigen::Vector3d> moved(source.size());
   std::vector<int> nearest(source.size());
   std::vector<double> nearest_sq(source.size());
@@ -116,7 +145,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int matched = 0;
-    double sum_sq = 0, sum_plane_sq = 0;
+    double sum_sq = 0, sum_plane_sq = 0, sum_weight = 0;
     for (size_t i = 0; i < source.size(); ++i) {
       if (nearest[i] < 0) continue;
       const Eigen::Vector3d& p = moved[i];
@@ -125,8 +154,13 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       Eigen::Matrix<double, 6, 1> J;
       J << p.cross(n), n;
       const double r = n.dot(p - q);
-      JtJ += J * J.transpose();
-      Jtr += J * r;
+      const double weight =
+          noise_weights ? 1.0 / (depth_variance(source_depth, i) +
+                                 depth_variance(target_depth, static_cast<size_t>(nearest[i])))
+                        : 1.0;
+      JtJ += weight * J * J.transpose();
+      Jtr += weight * J * r;
+      sum_weight += weight;
       sum_plane_sq += r * r;
       ++matched;
       sum_sq += nearest_sq[i];
@@ -151,7 +185,7 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
       ++anchored;
     }
     if (anchored > 0) {
-      double w = stage.anchor_weight * std::max(1, matched) / (3.0 * anchored);
+      double w = stage.anchor_weight * std::max(1.0, sum_weight) / (3.0 * anchored);
       if (stage.inverse_variance) {
         // Per-residual variances of the two kinds at this iterate, floored at (1 mm)^2, the
         // depth quantisation near the camera, so a perfect fit of either does not take over.
@@ -187,12 +221,13 @@ void RunStage(const std::vector<Eigen::Vector3d>& source,
 
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
   const bool iv = config.anchor_inverse_variance;
-  return {
-      {config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
-       config.anchor_weight_coarse, iv},
-      {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine, iv},
-      {config.voxel_m, config.max_distance_final_m, config.max_iterations,
-       config.anchor_weight_fine, iv}};
+  const double noise = config.depth_noise_at_1m_m, power = config.depth_noise_exponent;
+  return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
+           config.anchor_weight_coarse, iv, noise, power},
+          {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine,
+           iv, noise, power},
+          {config.voxel_m, config.max_distance_final_m, config.max_iterations,
+           config.anchor_weight_fine, iv, noise, power}};
 }
 
 IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& target,
@@ -215,7 +250,7 @@ IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& targe
     }
     if (s->cloud.points_.size() < 6 || t->cloud.points_.size() < 6) break;
     const open3d::geometry::KDTreeFlann& tree = t->MakeTargetReady();
-    RunStage(s->cloud.points_, t->cloud, tree, stage, anchors, threads, &T, &result);
+    RunStage(*s, *t, tree, stage, anchors, threads, &T, &result);
   }
   result.T_target_source = T;
   return result;

@@ -31,6 +31,11 @@ struct IcpStage {
   double anchor_weight = 0.0;
   // anchor_weight scales the inverse-variance weight (RefineConfig::anchor_inverse_variance).
   bool inverse_variance = false;
+  // > 0: each closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), with the axial depth
+  // noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth readings
+  // (RefineConfig); 0: equal weights.
+  double depth_noise_at_1m_m = 0.0;
+  double depth_noise_exponent = 2.0;
 };
 
 // Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair
@@ -57,9 +62,11 @@ class IcpGeometry {
   // Thins `points` (raw, scan frame) to one point per voxel for every distinct voxel size of
   // `stages` that runs. What only a target needs (normals from 30 neighbours within 3 voxels, the
   // k-d tree) is made now when `as_target`, else on first use as a target (once, thread-safe):
-  // a scan known to be only a source skips it.
+  // a scan known to be only a source skips it. `camera_depth` (parallel to `points`, or empty when
+  // unknown, as for a fused cloud) is each point's depth reading, averaged per voxel like the
+  // points, for the depth-noise weights (IcpStage::depth_noise_at_1m_m).
   IcpGeometry(const std::vector<Eigen::Vector3d>& points, const std::vector<IcpStage>& stages,
-              bool as_target = true);
+              bool as_target = true, const std::vector<double>& camera_depth = {});
   // Points at the resolution voxel_m (0 when that resolution was not built).
   size_t NumPoints(double voxel_m) const;
   size_t MemoryBytes() const;  // approximate heap use

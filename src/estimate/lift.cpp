@@ -34,7 +34,8 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
 }
 
 std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride, double min_depth_m,
-                                             double max_depth_m) {
+                                             double max_depth_m,
+                                             std::vector<double>* camera_depth) {
   std::vector<Eigen::Vector3d> points;
   const Intrinsics& K = view.intrinsics;
   const Eigen::Matrix3d R = view.T_scan_camera.topLeftCorner<3, 3>();
@@ -45,17 +46,20 @@ std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride, doubl
       const double z = row[x];
       if (!(z > 0 && z >= min_depth_m && z <= max_depth_m)) continue;
       points.push_back(R * Eigen::Vector3d((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z) + t);
+      if (camera_depth != nullptr) camera_depth->push_back(z);
     }
   }
   return points;
 }
 
 std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride, double min_depth_m,
-                                        double max_depth_m) {
+                                        double max_depth_m, std::vector<double>* camera_depth) {
+  if (camera_depth != nullptr) camera_depth->clear();
   if (!scan.points.empty()) return scan.points;
   std::vector<Eigen::Vector3d> points;
   for (const View& view : scan.views) {
-    const std::vector<Eigen::Vector3d> p = BackProjectView(view, stride, min_depth_m, max_depth_m);
+    const std::vector<Eigen::Vector3d> p =
+        BackProjectView(view, stride, min_depth_m, max_depth_m, camera_depth);
     points.insert(points.end(), p.begin(), p.end());
   }
   return points;

@@ -17,13 +17,17 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
                                          const LiftConfig& config);
 
 // Back-projects every `stride`-th pixel (in x and y) whose depth lies in [min_depth_m,
-// max_depth_m] into the scan frame.
+// max_depth_m] into the scan frame. With `camera_depth`, also appends each point's depth reading
+// (metres along its camera's axis, what the sensor's noise depends on).
 std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride = 1,
-                                             double min_depth_m = 0.0, double max_depth_m = 1e9);
+                                             double min_depth_m = 0.0, double max_depth_m = 1e9,
+                                             std::vector<double>* camera_depth = nullptr);
 
 // The geometry of a scan: its point cloud when it has one, else all its views back-projected
-// (BackProjectView with the same arguments).
+// (BackProjectView with the same arguments). `camera_depth`, when given, receives each point's
+// depth reading, or is left empty for a point cloud (fused points have no one reading).
 std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride = 1, double min_depth_m = 0.0,
-                                        double max_depth_m = 1e9);
+                                        double max_depth_m = 1e9,
+                                        std::vector<double>* camera_depth = nullptr);
 
 }  // namespace zeroreg

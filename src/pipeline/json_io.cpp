@@ -130,6 +130,8 @@ void Visit(V& v, RefineConfig& c) {
   v("anchor_weight_coarse", c.anchor_weight_coarse, AtLeast(0));
   v("anchor_weight_fine", c.anchor_weight_fine, AtLeast(0));
   v("anchor_inverse_variance", c.anchor_inverse_variance);
+  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0.0));
+  v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
   v("max_iterations", c.max_iterations, AtLeast(0));
 }

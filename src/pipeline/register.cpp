@@ -402,7 +402,10 @@ struct Pipeline::Impl {
       if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
       // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
       if (config.refine.enabled) {
-        p->icp = IcpGeometry(ScanPoints(scan, /*stride=*/2), IcpSchedule(config.refine), as_target);
+        std::vector<double> camera_depth;
+        const std::vector<Eigen::Vector3d> points =
+            ScanPoints(scan, /*stride=*/2, 0.0, 1e9, &camera_depth);
+        p->icp = IcpGeometry(points, IcpSchedule(config.refine), as_target, camera_depth);
       }
       geometry_timer.Mark("geometry");
     };
