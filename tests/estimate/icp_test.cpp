@@ -164,8 +164,10 @@ TEST(Icp, DepthNoiseWeightsTrustNearReadingsOverABiasedFarWall) {
   }
   for (const Eigen::Vector3d& p : target) target_depth.push_back(p.z());
 
-  RefineConfig weighted;
-  weighted.depth_noise_at_1m_m = 0.0015;
+  const RefineConfig weighted;  // the default: 1.5 mm at 1 m, exponent 2
+  ASSERT_GT(weighted.depth_noise_at_1m_m, 0.0);
+  RefineConfig equal_weights;
+  equal_weights.depth_noise_at_1m_m = 0.0;
   const auto refine = [&](const RefineConfig& config, bool with_depth) {
     const std::vector<IcpStage> stages = IcpSchedule(config);
     return RefinePointToPlane(
@@ -173,7 +175,7 @@ TEST(Icp, DepthNoiseWeightsTrustNearReadingsOverABiasedFarWall) {
         IcpGeometry(target, stages, true, with_depth ? target_depth : std::vector<double>()), gt,
         stages);
   };
-  const IcpResult plain = refine(RefineConfig(), true);
+  const IcpResult plain = refine(equal_weights, true);
   const IcpResult noise_weighted = refine(weighted, true);
   EXPECT_GT(TranslationErrorM(plain.T_target_source, gt), 0.01);
   EXPECT_LT(TranslationErrorM(noise_weighted.T_target_source, gt), 0.003);
