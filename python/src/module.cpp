@@ -24,7 +24,6 @@
 #include <sstream>
 
 #include "estimate/icp.hpp"
-#include "estimate/lift.hpp"
 #include "eval/metrics.hpp"
 #include "io/image_file.hpp"
 #include "zeroreg/error.hpp"
@@ -952,16 +951,10 @@ PYBIND11_MODULE(_zeroreg, m) {
         IcpResult icp;
         {
           py::gil_scoped_release release;
-          // Every other depth pixel with its depth reading, as the pipeline's refinement step.
+          // The same geometry as the pipeline's refinement step.
           const std::vector<IcpStage> stages = IcpSchedule(c.refine);
-          std::vector<double> source_depth, target_depth;
-          const std::vector<Eigen::Vector3d> source_points =
-              ScanPoints(s, /*stride=*/2, 0.0, 1e9, &source_depth);
-          const std::vector<Eigen::Vector3d> target_points =
-              ScanPoints(t, /*stride=*/2, 0.0, 1e9, &target_depth);
-          icp = RefinePointToPlane(IcpGeometry(source_points, stages, false, source_depth),
-                                   IcpGeometry(target_points, stages, true, target_depth), initial,
-                                   stages);
+          icp = RefinePointToPlane(ScanIcpGeometry(s, stages, /*as_target=*/false),
+                                   ScanIcpGeometry(t, stages), initial, stages);
         }
         py::dict out;
         out["T_target_source"] = MatrixToNumpy(icp.T_target_source);

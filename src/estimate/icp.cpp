@@ -12,6 +12,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "estimate/lift.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
@@ -82,6 +83,13 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
   }
 }
 
+IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stages, bool as_target) {
+  std::vector<double> camera_depth;
+  const std::vector<Eigen::Vector3d> points =
+      ScanPoints(scan, /*stride=*/2, 0.0, 1e9, &camera_depth);
+  return IcpGeometry(points, stages, as_target, camera_depth);
+}
+
 size_t IcpGeometry::NumPoints(double voxel_m) const {
   for (const auto& l : levels_) {
     if (l->voxel_m == voxel_m) return l->cloud.points_.size();
@@ -115,16 +123,21 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
   // readings' axial noise (the normal is mostly along the view ray where the surface is seen
   // well). Floored at 1 mm, the depth quantisation near the camera. A scan without readings (a
   // fused cloud) adds no variance; with neither, every pair weighs the same.
-  const std::vector<double>& source_depth = source_level.camera_depth;
-  const std::vector<double>& target_depth = target_level.camera_depth;
-  const bool noise_weights =
-      stage.depth_noise_at_1m_m > 0 && (!source_depth.empty() || !target_depth.empty());
-  const auto depth_variance = [&](const std::vector<double>& depth, size_t i) {
-    if (depth.empty()) return 0.0;
-    const double sigma =
-        std::max(1e-3, stage.depth_noise_at_1m_m * std::pow(depth[i], stage.depth_noise_exponent));
-    return sigma * sigma;
+  // Per point once per stage, not per iteration: empty where the scan has no readings.
+  const auto depth_variances = [&](const std::vector<double>& depth) {
+    std::vector<double> variance;
+    if (!(stage.depth_noise_at_1m_m > 0)) return variance;
+    variance.reserve(depth.size());
+    for (double d : depth) {
+      const double sigma =
+          std::max(1e-3, stage.depth_noise_at_1m_m * std::pow(d, stage.depth_noise_exponent));
+      variance.push_back(sigma * sigma);
+    }
+    return variance;
   };
+  const std::vector<double> source_variance = depth_variances(source_level.camera_depth);
+  const std::vector<double> target_variance = depth_variances(target_level.camera_depth);
+  const bool noise_weights = !source_variance.empty() || !target_variance.empty();
   std::vector<Eigen::Vector3d> moved(source.size());
   std::vector<int> nearest(source.size());
   std::vector<double> nearest_sq(source.size());
@@ -155,8 +168,8 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
       J << p.cross(n), n;
       const double r = n.dot(p - q);
       const double weight =
-          noise_weights ? 1.0 / (depth_variance(source_depth, i) +
-                                 depth_variance(target_depth, static_cast<size_t>(nearest[i])))
+          noise_weights ? 1.0 / ((source_variance.empty() ? 0.0 : source_variance[i]) +
+                                 (target_variance.empty() ? 0.0 : target_variance[nearest[i]]))
                         : 1.0;
       JtJ += weight * J * J.transpose();
       Jtr += weight * J * r;
@@ -193,7 +206,8 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
         const double plane_variance =
             std::max(kMinVariance, matched > 0 ? sum_plane_sq / matched : kMinVariance);
         const double anchor_variance = std::max(kMinVariance, anchor_sum_sq / (3.0 * anchored));
-        w = stage.anchor_weight * plane_variance / anchor_variance;
+        // Relative to the mean closest-point weight (1 without depth-noise weights).
+        w = stage.anchor_weight * plane_variance / anchor_variance * (sum_weight / matched);
       }
       JtJ += w * anchor_JtJ;
       Jtr += w * anchor_Jtr;

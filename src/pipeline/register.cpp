@@ -11,7 +11,6 @@
 #include <stdexcept>
 
 #include "estimate/icp.hpp"
-#include "estimate/lift.hpp"
 #include "estimate/max_clique.hpp"
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
@@ -400,12 +399,8 @@ struct Pipeline::Impl {
     const auto geometry = [&] {
       geometry_timer.Restart();
       if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
-      // Every other depth pixel is plenty: the stages thin the points to 2 cm voxels or coarser.
       if (config.refine.enabled) {
-        std::vector<double> camera_depth;
-        const std::vector<Eigen::Vector3d> points =
-            ScanPoints(scan, /*stride=*/2, 0.0, 1e9, &camera_depth);
-        p->icp = IcpGeometry(points, IcpSchedule(config.refine), as_target, camera_depth);
+        p->icp = ScanIcpGeometry(scan, IcpSchedule(config.refine), as_target);
       }
       geometry_timer.Mark("geometry");
     };
