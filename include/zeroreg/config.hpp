@@ -113,6 +113,10 @@ struct ObjectMatchConfig {
   // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
   // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
   std::uint64_t max_exact_assignments = 2000000;
+  // Rigidity check of the matched objects (src/object_match/rigidity.hpp): after Eq. 2 and the
+  // label filter, only the largest set of matches whose centroid distances agree pairwise within
+  // this many metres is kept (a rigid motion preserves distances). 0 = off (the paper's flow).
+  double rigidity_tolerance_m = 0.0;
   // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
   // seeded random interior points) and Frank-Wolfe iterations per start.
   int restarts = 6;
@@ -361,6 +365,11 @@ struct ObjectsConfig {
   // Bhattacharyya coefficient of their colour histograms, in [0, 1]) are less similar than this
   // are not merged, whatever their labels and overlap. 0 = appearance not used (docs/MATCHING.md).
   double association_min_appearance = 0.0;
+  // Views where the detector's objects (those with at least min_points) number fewer than this
+  // are topped up with class-agnostic depth-region proposals (label "object", src/objects/
+  // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask; issue 11.
+  // 0 = detections only (the paper's flow).
+  int proposals_below = 0;
 };
 
 // Which parts of the method run. The paper's Table 4 ablation rows are switches here.

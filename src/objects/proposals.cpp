@@ -68,4 +68,29 @@ Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask) {
   return norm > 0 ? Eigen::VectorXd(histogram / norm) : histogram;
 }
 
+void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const LiftConfig& lift,
+                        std::vector<ObjectObservation>* found) {
+  if (objects.proposals_below <= 0) return;
+  int usable = 0;
+  cv::Mat covered(view.depth.size(), CV_8U, cv::Scalar(0));
+  for (const ObjectObservation& o : *found) {
+    if (o.mask.empty()) continue;
+    covered |= o.mask;
+    if (static_cast<int>(LiftMask(view, o.mask, objects, lift).size()) >= objects.min_points) {
+      ++usable;
+    }
+  }
+  if (usable >= objects.proposals_below) return;
+  for (Proposal& p : DepthProposals(view.depth)) {
+    const double area = cv::countNonZero(p.mask);
+    cv::Mat inside;
+    cv::bitwise_and(p.mask, covered, inside);
+    if (area <= 0 || cv::countNonZero(inside) > 0.5 * area) continue;
+    ObjectObservation o;
+    o.detection = p.detection;
+    o.mask = std::move(p.mask);
+    found->push_back(std::move(o));
+  }
+}
+
 }  // namespace zeroreg

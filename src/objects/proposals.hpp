@@ -8,6 +8,9 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "objects/scene_objects.hpp"
+#include "zeroreg/config.hpp"
+#include "zeroreg/types.hpp"
 
 namespace zeroreg {
 
@@ -25,5 +28,12 @@ std::vector<Proposal> DepthProposals(const cv::Mat& depth_m, double relative_jum
 
 // L2-normalised 8x4x4 HSV histogram of the masked pixels (appearance feature, 128-d).
 Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask);
+
+// Issue 11: when fewer than objects.proposals_below of `found` (a view's segmented detections)
+// lift to at least objects.min_points points, appends the view's DepthProposals that lie at most
+// half inside the detections' masks (label "object"; masks and boxes as DepthProposals makes
+// them). Does nothing when proposals_below is 0.
+void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const LiftConfig& lift,
+                        std::vector<ObjectObservation>* found);
 
 }  // namespace zeroreg

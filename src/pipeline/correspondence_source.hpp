@@ -34,6 +34,7 @@ struct CorrespondenceSet {
   std::vector<Correspondence> correspondences;
   std::string path;  // RegistrationResult::path; empty = the source's name()
   std::vector<ObjectMatchSummary> object_matches;
+  int rejected_object_matches = 0;  // RegistrationResult::rejected_object_matches
   // Set by sources that can fall back to whole-image matching when their own correspondences do
   // not give a valid registration; computes them on demand.
   std::function<std::vector<Correspondence>()> whole_image_fallback;

@@ -163,6 +163,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     winner.source_objects = std::move(result->source_objects);
     winner.target_objects = std::move(result->target_objects);
     winner.object_matches = std::move(result->object_matches);
+    winner.rejected_object_matches = result->rejected_object_matches;
     winner.num_keypoints_source = result->num_keypoints_source;
     winner.num_keypoints_target = result->num_keypoints_target;
     *result = std::move(winner);

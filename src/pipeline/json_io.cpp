@@ -179,6 +179,7 @@ void Visit(V& v, ObjectsConfig& c) {
   v("compatible_label_cosine", c.compatible_label_cosine, Between(-1, 1));
   v("point_voxel_m", c.point_voxel_m, Positive());
   v("association_min_appearance", c.association_min_appearance, Between(-1, 1));
+  v("proposals_below", c.proposals_below, AtLeast(0));
 }
 template <typename V>
 void Visit(V& v, SceneGraphConfig& c) {
@@ -193,6 +194,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("target_edge_weight", c.target_edge_weight, AtLeast(0));
   v("appearance_weight", c.appearance_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
+  v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
   v("restarts", c.restarts, AtLeast(1));
   v("iterations", c.iterations, AtLeast(1));
 }
@@ -550,7 +552,8 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
     }
     j["objects"] = {{"source", ObjectsToJson(r.source_objects)},
                     {"target", ObjectsToJson(r.target_objects)},
-                    {"matches", matches}};
+                    {"matches", matches},
+                    {"rejected_matches", r.rejected_object_matches}};
   }
   if (include_correspondences) {
     json list = json::array();

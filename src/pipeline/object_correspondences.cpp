@@ -9,6 +9,7 @@
 
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
+#include "object_match/rigidity.hpp"
 #include "objects/proposals.hpp"
 
 namespace zeroreg {
@@ -124,6 +125,8 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
         found.push_back(std::move(o));
       }
       timer.Mark("segment");
+      TopUpWithProposals(view, config_.objects, config_.lift, &found);
+      timer.Mark("detect");
     } else {
       for (Proposal& p : DepthProposals(view.depth)) {
         ObjectObservation o;
@@ -199,6 +202,15 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
     // Paper §3.3: drop matched pairs whose labels differ.
     pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
+    // Then the matches whose centroid distances contradict the others' (a rigid motion keeps
+    // them), when switched on.
+    std::vector<Eigen::Vector3d> points_s, points_t;
+    for (const SceneObject& o : objects_s) points_s.push_back(o.centroid);
+    for (const SceneObject& o : objects_t) points_t.push_back(o.centroid);
+    RigidityCheck rigid =
+        CheckRigidity(pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m);
+    pairs = std::move(rigid.kept);
+    result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
   }
   timer.Mark("object_match");
 

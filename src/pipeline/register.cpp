@@ -472,6 +472,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   result.source_objects = source.perceived->object_summaries;
   result.target_objects = target.perceived->object_summaries;
   result.object_matches = std::move(found.object_matches);
+  result.rejected_object_matches = found.rejected_object_matches;
   result.num_keypoints_source = source.perceived->num_keypoints;
   result.num_keypoints_target = target.perceived->num_keypoints;
   timer.Restart();
