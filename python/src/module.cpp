@@ -783,6 +783,9 @@ void BindResult(py::module_& m) {
           "Matched object pairs (paper §3.3, Eq. 2), each a dict: source and target (indices into "
           "source_objects / target_objects), node_similarity (C = 1 + cosine of the semantic "
           "features), num_correspondences (point correspondences found inside the pair).")
+      .def_readonly("rejected_object_matches", &RegistrationResult::rejected_object_matches,
+                    "Matches of Eq. 2 that the rigidity check dropped "
+                    "(object_match.rigidity_tolerance_m); they are not in object_matches.")
       .def_property_readonly(
           "timings",
           [](const RegistrationResult& r) {

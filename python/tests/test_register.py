@@ -200,3 +200,8 @@ def test_objects_and_matches_are_consistent(result_20_0_from_paths):
     for m in r.object_matches:
         assert 0 <= m["source"] < len(r.source_objects)
         assert 0 <= m["target"] < len(r.target_objects)
+    # The rigidity check only removes matches: kept + rejected never exceeds the smaller object list.
+    assert isinstance(r.rejected_object_matches, int) and r.rejected_object_matches >= 0
+    assert len(r.object_matches) + r.rejected_object_matches <= min(
+        len(r.source_objects), len(r.target_objects)
+    )

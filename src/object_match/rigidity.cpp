@@ -37,12 +37,28 @@ struct CliqueSearch {
   }
 };
 
+// |r^p - r^q| of one matched pair; 0 without radii.
+double ExtentChange(const ObjectPair& pair, const std::vector<double>& radius_source,
+                    const std::vector<double>& radius_target) {
+  if (radius_source.empty() || radius_target.empty()) return 0.0;
+  return std::abs(radius_source[static_cast<size_t>(pair.source)] -
+                  radius_target[static_cast<size_t>(pair.target)]);
+}
+
 }  // namespace
+
+double RmsRadius(const std::vector<Eigen::Vector3d>& points, const Eigen::Vector3d& centroid) {
+  if (points.empty()) return 0.0;
+  double sum = 0;
+  for (const Eigen::Vector3d& p : points) sum += (p - centroid).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(points.size()));
+}
 
 RigidityCheck CheckRigidity(const std::vector<ObjectPair>& pairs,
                             const std::vector<Eigen::Vector3d>& centroids_source,
                             const std::vector<Eigen::Vector3d>& centroids_target,
-                            double tolerance_m) {
+                            double tolerance_m, const std::vector<double>& radius_source,
+                            const std::vector<double>& radius_target) {
   RigidityCheck out;
   const int n = static_cast<int>(pairs.size());
   if (tolerance_m <= 0 || n < 2) {
@@ -71,7 +87,9 @@ RigidityCheck CheckRigidity(const std::vector<ObjectPair>& pairs,
       const double dt = (centroids_target[static_cast<size_t>(pa.target)] -
                          centroids_target[static_cast<size_t>(pb.target)])
                             .norm();
-      if (std::abs(ds - dt) <= tolerance_m) {
+      const double slack = ExtentChange(pa, radius_source, radius_target) +
+                           ExtentChange(pb, radius_source, radius_target);
+      if (std::abs(ds - dt) <= tolerance_m + slack) {
         linked[static_cast<size_t>(a)][static_cast<size_t>(b)] = true;
         linked[static_cast<size_t>(b)][static_cast<size_t>(a)] = true;
       }

@@ -205,10 +205,17 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     // Then the matches whose centroid distances contradict the others' (a rigid motion keeps
     // them), when switched on.
     std::vector<Eigen::Vector3d> points_s, points_t;
-    for (const SceneObject& o : objects_s) points_s.push_back(o.centroid);
-    for (const SceneObject& o : objects_t) points_t.push_back(o.centroid);
-    RigidityCheck rigid =
-        CheckRigidity(pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m);
+    std::vector<double> radius_s, radius_t;
+    for (const SceneObject& o : objects_s) {
+      points_s.push_back(o.centroid);
+      radius_s.push_back(RmsRadius(o.points, o.centroid));
+    }
+    for (const SceneObject& o : objects_t) {
+      points_t.push_back(o.centroid);
+      radius_t.push_back(RmsRadius(o.points, o.centroid));
+    }
+    RigidityCheck rigid = CheckRigidity(
+        pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m, radius_s, radius_t);
     pairs = std::move(rigid.kept);
     result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
   }

@@ -73,5 +73,21 @@ TEST(Rigidity, BetweenTwoEqualSetsTheMoreSimilarWins) {
   EXPECT_EQ(Pairs(check.kept), (std::vector<std::pair<int, int>>{{0, 0}, {1, 1}}));
 }
 
+TEST(Rigidity, AnObjectSeenPartlyGetsTheChangeOfItsExtentAsSlack) {
+  Room room = MakeRoom();
+  // Object 1 (a table) is seen whole in the source and half in the target: its target centroid
+  // moved 0.5 m, and its visible radius shrank from 0.8 to 0.4 m.
+  room.target[1] += Eigen::Vector3d(0.5, 0, 0);
+  const std::vector<ObjectPair> pairs = {{0, 0, 1.9}, {1, 1, 1.8}, {2, 2, 1.7}};
+  EXPECT_EQ(CheckRigidity(pairs, room.source, room.target, 0.3).dropped.size(), 1u);
+  const std::vector<double> radius_source = {0.2, 0.8, 0.2, 0.2, 0.2};
+  const std::vector<double> radius_target = {0.2, 0.4, 0.2, 0.2, 0.2};
+  const RigidityCheck check =
+      CheckRigidity(pairs, room.source, room.target, 0.3, radius_source, radius_target);
+  EXPECT_EQ(check.kept.size(), 3u);
+  EXPECT_NEAR(RmsRadius({{0, 0, 0}, {2, 0, 0}}, {1, 0, 0}), 1.0, 1e-12);
+  EXPECT_EQ(RmsRadius({}, {1, 0, 0}), 0.0);
+}
+
 }  // namespace
 }  // namespace zeroreg
