@@ -7,7 +7,7 @@
 namespace zeroreg {
 namespace {
 
-// Exact search for the clique of `adjacency` (vertices = positions in `order`) that is largest,
+// Exact search for the clique of `linked` (vertices in descending node similarity) that is largest,
 // then has the highest summed node similarity. Include-or-exclude branching with a size bound: a
 // pair has a few dozen matched objects at most, where this is instantaneous.
 struct CliqueSearch {

@@ -204,20 +204,24 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
     // Then the matches whose centroid distances contradict the others' (a rigid motion keeps
     // them), when switched on.
-    std::vector<Eigen::Vector3d> points_s, points_t;
-    std::vector<double> radius_s, radius_t;
-    for (const SceneObject& o : objects_s) {
-      points_s.push_back(o.centroid);
-      radius_s.push_back(RmsRadius(o.points, o.centroid));
+    if (config_.object_match.rigidity_tolerance_m > 0) {
+      // Centroids and visible extents (RMS radii) of one scan's objects.
+      const auto shape = [](const std::vector<SceneObject>& objects,
+                            std::vector<Eigen::Vector3d>* centroids, std::vector<double>* radii) {
+        for (const SceneObject& o : objects) {
+          centroids->push_back(o.centroid);
+          radii->push_back(RmsRadius(o.points, o.centroid));
+        }
+      };
+      std::vector<Eigen::Vector3d> points_s, points_t;
+      std::vector<double> radius_s, radius_t;
+      shape(objects_s, &points_s, &radius_s);
+      shape(objects_t, &points_t, &radius_t);
+      RigidityCheck rigid = CheckRigidity(
+          pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m, radius_s, radius_t);
+      pairs = std::move(rigid.kept);
+      result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
     }
-    for (const SceneObject& o : objects_t) {
-      points_t.push_back(o.centroid);
-      radius_t.push_back(RmsRadius(o.points, o.centroid));
-    }
-    RigidityCheck rigid = CheckRigidity(
-        pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m, radius_s, radius_t);
-    pairs = std::move(rigid.kept);
-    result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
   }
   timer.Mark("object_match");
 
