@@ -17,7 +17,7 @@ cd "$repo_root"
 # python3-onnx: scripts/fetch-assets.sh rewrites the PicoDet export for OpenCV 4.6 with it.
 packages=(
   cmake g++ make
-  libopen3d-dev libopencv-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
+  libopen3d-dev libopencv-dev libpng-dev libjpeg62-turbo-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
   googletest libgtest-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-onnx
   clang-format

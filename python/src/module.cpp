@@ -19,7 +19,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -887,7 +886,7 @@ PYBIND11_MODULE(_zeroreg, m) {
       "read_depth",
       [](const py::object& path_obj) {
         const std::string path = PathFromPython(path_obj, "path");
-        const cv::Mat raw = detail::ReadImageFile(path, "depth image", cv::IMREAD_UNCHANGED);
+        const cv::Mat raw = detail::ReadImageFile(path, "depth image", detail::ImageMode::kUnchanged);
         if (raw.empty()) {
           throw MakeInputError(path, "cannot be read or decoded; expected a 16-bit PNG");
         }

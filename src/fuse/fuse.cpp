@@ -11,10 +11,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "io/image_codec.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
@@ -136,8 +136,12 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
       const std::string stem = "view-" + std::to_string(frame_ids[k]);
       cv::Mat depth_mm;
       view.depth.convertTo(depth_mm, CV_16U, 1000.0);
-      cv::imwrite((dir / (stem + ".color.png")).string(), view.color);
-      cv::imwrite((dir / (stem + ".depth.png")).string(), depth_mm);
+      for (const auto& [name, image] :
+           {std::pair{stem + ".color.png", view.color}, std::pair{stem + ".depth.png", depth_mm}}) {
+        if (!detail::WriteImageFile((dir / name).string(), image)) {
+          throw MakeInputError((dir / name).string(), "cannot write the fragment's view image");
+        }
+      }
       ScanDescriptorView v;
       v.color = stem + ".color.png";
       v.depth = stem + ".depth.png";

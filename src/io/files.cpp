@@ -1,6 +1,5 @@
 // Single-file readers (intrinsics, poses, colour and depth images) and LoadView.
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
@@ -94,18 +93,18 @@ Transform ReadPoseFile(const std::string& path) {
 }
 
 cv::Mat ReadColorImage(const std::string& path) {
-  cv::Mat image = detail::ReadImageFile(path, "colour image", cv::IMREAD_COLOR);
+  cv::Mat image = detail::ReadImageFile(path, "colour image", detail::ImageMode::kColor);
   if (image.empty()) {
     throw MakeInputError(path,
                          "colour image cannot be decoded (corrupt or unsupported format); expected "
-                         "an image OpenCV reads (JPEG, PNG, ...)");
+                         "a PNG or JPEG file");
   }
-  return image;  // IMREAD_COLOR always gives CV_8UC3 BGR.
+  return image;  // ImageMode::kColor always gives CV_8UC3 BGR.
 }
 
 cv::Mat ReadDepthImage(const std::string& path, double depth_scale) {
   detail::CheckDepthScale(depth_scale, path);
-  const cv::Mat raw = detail::ReadImageFile(path, "depth image", cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = detail::ReadImageFile(path, "depth image", detail::ImageMode::kUnchanged);
   if (raw.empty()) {
     throw MakeInputError(
         path,

@@ -2,7 +2,6 @@
 
 #include <fstream>
 #include <iterator>
-#include <opencv2/imgcodecs.hpp>
 
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
@@ -52,7 +51,7 @@ ImageHeader InspectJpeg(const std::vector<std::uint8_t>& b) {
   h.complete = false;
   size_t i = 2;
   while (i + 1 < b.size()) {
-    if (b[i] != 0xFF) return h;  // not at a marker: corrupt; OpenCV decides
+    if (b[i] != 0xFF) return h;  // not at a marker: corrupt; the decoder decides
     const unsigned marker = b[i + 1];
     if (marker == 0xFF) {  // fill byte
       ++i;
@@ -100,7 +99,7 @@ ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes) {
   return {};
 }
 
-cv::Mat ReadImageFile(const std::string& path, const std::string& what, int flags) {
+cv::Mat ReadImageFile(const std::string& path, const std::string& what, ImageMode mode) {
   RequireFile(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MakeInputError(path, what + " cannot be opened for reading");
@@ -122,8 +121,8 @@ cv::Mat ReadImageFile(const std::string& path, const std::string& what, int flag
   }
   cv::Mat image;
   try {
-    image = cv::imdecode(bytes, flags);
-  } catch (const cv::Exception& e) {
+    image = DecodeImage(bytes, mode);
+  } catch (const std::exception& e) {
     throw MakeInputError(path, what + " cannot be decoded: " + e.what());
   }
   if (!image.empty() && static_cast<std::uint64_t>(image.total()) > limit) {

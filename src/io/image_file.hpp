@@ -1,13 +1,15 @@
-// Internal helper of src/io: reading an image file safely. The header is checked before OpenCV
-// decodes anything, so a small file that declares a huge image is refused before it allocates
-// gigabytes, and a JPEG or PNG cut short is refused instead of decoding to a partly grey image
-// (libjpeg only prints "Premature end of JPEG file").
+// Internal helper of src/io: reading an image file safely. The header is checked before the decoder
+// (io/image_codec.hpp) runs, so a small file that declares a huge image is refused before it
+// allocates gigabytes, and a JPEG or PNG cut short is refused instead of decoding to a partly grey
+// image (libjpeg only prints "Premature end of JPEG file").
 #pragma once
 
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
+
+#include "io/image_codec.hpp"
 
 namespace zeroreg::detail {
 
@@ -26,8 +28,8 @@ struct ImageHeader {
 ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes);
 
 // Reads `path` (a regular file; `what` names it in messages, e.g. "colour image"), checks the
-// header (size within MaxImagePixels, file complete) and decodes it with cv::imdecode(`flags`).
-// Throws InputError naming the file. Returns an empty Mat when OpenCV cannot decode it.
-cv::Mat ReadImageFile(const std::string& path, const std::string& what, int flags);
+// header (size within MaxImagePixels, file complete) and decodes it (DecodeImage, `mode`).
+// Throws InputError naming the file. Returns an empty Mat when it is neither PNG nor JPEG.
+cv::Mat ReadImageFile(const std::string& path, const std::string& what, ImageMode mode);
 
 }  // namespace zeroreg::detail

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -69,7 +68,7 @@ class FileSegmenter : public Segmenter {
         detail::ReadImageFile(path,
                               "mask " + std::to_string(index) + " of image '" + image_name +
                                   "' (expected <masks_dir>/<image stem>_<index>.png)",
-                              cv::IMREAD_UNCHANGED);
+                              detail::ImageMode::kUnchanged);
     if (raw.empty()) {
       throw MakeInputError(path, "cannot decode mask image (expected an 8-bit single-channel PNG)");
     }

@@ -7,7 +7,6 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
@@ -15,6 +14,7 @@
 #include <vector>
 
 #include "eval/records.hpp"
+#include "io/image_codec.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
@@ -778,9 +778,13 @@ std::string HtmlEscape(const std::string& text) {
 std::string ImageDataUri(const std::string& path, const ReportConfig& config) {
   const std::string bytes = ReadBytes(path);
   if (bytes.empty()) return "";
-  const cv::Mat image = cv::imdecode(
-      cv::Mat(1, static_cast<int>(bytes.size()), CV_8UC1, const_cast<char*>(bytes.data())),
-      cv::IMREAD_COLOR);
+  cv::Mat image;
+  try {
+    image = detail::DecodeImage(std::vector<std::uint8_t>(bytes.begin(), bytes.end()),
+                                detail::ImageMode::kColor);
+  } catch (const std::exception&) {
+    return "";  // not a picture the page can show
+  }
   if (image.empty()) return "";
   const bool too_wide = config.max_image_width > 0 && image.cols > config.max_image_width;
   if (!too_wide && bytes.size() <= config.max_image_bytes) {
@@ -792,8 +796,10 @@ std::string ImageDataUri(const std::string& path, const ReportConfig& config) {
     const double s = static_cast<double>(config.max_image_width) / image.cols;
     cv::resize(image, scaled, cv::Size(), s, s, cv::INTER_AREA);
   }
-  std::vector<uchar> jpeg;
-  if (!cv::imencode(".jpg", scaled, jpeg, {cv::IMWRITE_JPEG_QUALITY, config.jpeg_quality})) {
+  std::vector<std::uint8_t> jpeg;
+  try {
+    jpeg = detail::EncodeJpeg(scaled, config.jpeg_quality);
+  } catch (const std::exception&) {
     return "";
   }
   return "data:image/jpeg;base64," + Base64Encode(std::string(jpeg.begin(), jpeg.end()));
