@@ -3,8 +3,15 @@
 #include "assets/sha256.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <cpuid.h>
+#include <immintrin.h>
+#define ZEROREG_SHA256_X86 1
+#endif
 
 namespace zeroreg::detail {
 namespace {
@@ -40,11 +47,90 @@ inline std::uint32_t LoadBigEndian32(const std::uint8_t* p) {
          (static_cast<std::uint32_t>(p[2]) << 8) | static_cast<std::uint32_t>(p[3]);
 }
 
+#if ZEROREG_SHA256_X86
+bool CpuHasShaExtensions() {
+  unsigned eax = 0, ebx = 0, ecx = 0, edx = 0;
+  if (!__get_cpuid(1, &eax, &ebx, &ecx, &edx)) return false;
+  const bool ssse3 = (ecx & (1U << 9)) != 0, sse41 = (ecx & (1U << 19)) != 0;
+  if (!__get_cpuid_count(7, 0, &eax, &ebx, &ecx, &edx)) return false;
+  return ssse3 && sse41 && (ebx & (1U << 29)) != 0;  // CPUID.(EAX=7,ECX=0):EBX.SHA[bit 29]
+}
+
+// The same compression function on the SHA extensions. The instructions keep the working
+// variables as two vectors, (a, b, e, f) and (c, d, g, h) (sha256rnds2 does two rounds of
+// §6.2.2 step 3 on them); the message schedule of step 1 is four words at a time:
+// W[t..t+3] = sigma1 terms (sha256msg2) of W[t-16..] + sigma0(W[t-15..]) (sha256msg1) + W[t-7..].
+__attribute__((target("sha,sse4.1,ssse3"))) void ProcessBlockShaExtensions(
+    std::uint32_t* state, const std::uint8_t* block) {
+  const __m128i byte_swap = _mm_set_epi64x(0x0c0d0e0f08090a0bULL, 0x0405060700010203ULL);
+  // state = a b c d | e f g h (lowest word first) -> abef = (f e b a), cdgh = (h g d c).
+  __m128i abcd = _mm_loadu_si128(reinterpret_cast<const __m128i*>(state));
+  __m128i efgh = _mm_loadu_si128(reinterpret_cast<const __m128i*>(state + 4));
+  abcd = _mm_shuffle_epi32(abcd, 0xB1);  // b a d c
+  efgh = _mm_shuffle_epi32(efgh, 0x1B);  // h g f e
+  __m128i abef = _mm_alignr_epi8(abcd, efgh, 8);
+  __m128i cdgh = _mm_blend_epi16(efgh, abcd, 0xF0);
+  const __m128i abef_start = abef, cdgh_start = cdgh;
+
+  __m128i w[4];  // W[4i..4i+3] of the last four groups, indexed by i mod 4
+  for (int i = 0; i < 16; ++i) {
+    __m128i& group = w[i & 3];
+    if (i < 4) {
+      group = _mm_shuffle_epi8(_mm_loadu_si128(reinterpret_cast<const __m128i*>(block + 16 * i)),
+                               byte_swap);
+    } else {
+      const __m128i& last = w[(i + 3) & 3];                                // W[4i-4..4i-1]
+      const __m128i w_minus_7 = _mm_alignr_epi8(last, w[(i + 2) & 3], 4);  // W[4i-7..4i-4]
+      group = _mm_sha256msg2_epu32(
+          _mm_add_epi32(_mm_sha256msg1_epu32(group, w[(i + 1) & 3]), w_minus_7), last);
+    }
+    __m128i message = _mm_add_epi32(
+        group, _mm_loadu_si128(reinterpret_cast<const __m128i*>(&kRoundConstants[4 * i])));
+    cdgh = _mm_sha256rnds2_epu32(cdgh, abef, message);
+    message = _mm_shuffle_epi32(message, 0x0E);  // the upper two words for the next two rounds
+    abef = _mm_sha256rnds2_epu32(abef, cdgh, message);
+  }
+  abef = _mm_add_epi32(abef, abef_start);
+  cdgh = _mm_add_epi32(cdgh, cdgh_start);
+  // Back to a b c d | e f g h.
+  const __m128i feba = _mm_shuffle_epi32(abef, 0x1B);
+  const __m128i dchg = _mm_shuffle_epi32(cdgh, 0xB1);
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(state), _mm_blend_epi16(feba, dchg, 0xF0));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(state + 4), _mm_alignr_epi8(dchg, feba, 8));
+}
+#endif
+
+std::atomic<bool> g_allow_sha_extensions{true};
+
+bool UseShaExtensions() {
+#if ZEROREG_SHA256_X86
+  static const bool available = CpuHasShaExtensions();
+  return available && g_allow_sha_extensions.load(std::memory_order_relaxed);
+#else
+  return false;
+#endif
+}
+
 }  // namespace
+
+bool Sha256UseShaExtensions(bool allow) {
+  g_allow_sha_extensions = allow;
+  return UseShaExtensions();
+}
+
+void Sha256::ProcessBlock(const std::uint8_t* block) {
+#if ZEROREG_SHA256_X86
+  if (UseShaExtensions()) {
+    ProcessBlockShaExtensions(state_.data(), block);
+    return;
+  }
+#endif
+  ProcessBlockPortable(block);
+}
 
 Sha256::Sha256() : state_(kInitialHash) {}
 
-void Sha256::ProcessBlock(const std::uint8_t* block) {
+void Sha256::ProcessBlockPortable(const std::uint8_t* block) {
   // Message schedule W_0..W_63 (§6.2.2 step 1), with the small sigma functions of §4.1.2.
   std::array<std::uint32_t, 64> w{};
   for (std::size_t t = 0; t < 16; ++t) w[t] = LoadBigEndian32(block + 4 * t);

@@ -48,6 +48,20 @@ TEST(AssetsSha256, KnownAnswersInOneCall) {
   }
 }
 
+// Both compression functions (the SHA extensions where the CPU has them, and the portable code)
+// give every known answer; on a CPU without the extensions both runs take the portable code.
+TEST(AssetsSha256, KnownAnswersOnBothCodePaths) {
+  for (bool allow : {false, true}) {
+    const bool extensions = detail::Sha256UseShaExtensions(allow);
+    EXPECT_TRUE(allow || !extensions);
+    for (const auto& [message, digest] : KnownAnswers()) {
+      EXPECT_EQ(detail::Sha256Hex(message), digest)
+          << "message length " << message.size() << (extensions ? ", SHA extensions" : "");
+    }
+  }
+  detail::Sha256UseShaExtensions(true);
+}
+
 TEST(AssetsSha256, DigestDoesNotDependOnHowInputIsSplit) {
   // 0..255 repeated: every byte value, 1280 bytes = 20 blocks. Digest from hashlib.
   std::string message;
