@@ -162,9 +162,16 @@ void JpegErrorExit(j_common_ptr info) {
 // truncated files before decoding, and a library should not write to stderr.
 void JpegSilence(j_common_ptr) {}
 
+// The error manager for a (de)compressor: libjpeg's defaults, with the two callbacks above.
+jpeg_error_mgr* JpegErrors(JpegErrorManager* manager) {
+  jpeg_error_mgr* errors = jpeg_std_error(&manager->base);
+  errors->error_exit = JpegErrorExit;
+  errors->output_message = JpegSilence;
+  return errors;
+}
+
 struct JpegDecodeState {
   const std::vector<std::uint8_t>* bytes = nullptr;
-  ImageMode mode = ImageMode::kColor;
   jpeg_decompress_struct info;
   JpegErrorManager errors;
   cv::Mat image;
@@ -198,10 +205,7 @@ bool RunJpegDecode(JpegDecodeState* state) {
 cv::Mat DecodeJpeg(const std::vector<std::uint8_t>& bytes, ImageMode mode) {
   JpegDecodeState state;
   state.bytes = &bytes;
-  state.mode = mode;
-  state.info.err = jpeg_std_error(&state.errors.base);
-  state.errors.base.error_exit = JpegErrorExit;
-  state.errors.base.output_message = JpegSilence;
+  state.info.err = JpegErrors(&state.errors);
   jpeg_create_decompress(&state.info);
   const bool ok = RunJpegDecode(&state);
   jpeg_destroy_decompress(&state.info);
@@ -285,9 +289,7 @@ std::vector<std::uint8_t> EncodeJpeg(const cv::Mat& image, int quality) {
   JpegEncodeState state;
   state.image = &image;
   state.quality = std::clamp(quality, 1, 100);
-  state.info.err = jpeg_std_error(&state.errors.base);
-  state.errors.base.error_exit = JpegErrorExit;
-  state.errors.base.output_message = JpegSilence;
+  state.info.err = JpegErrors(&state.errors);
   jpeg_create_compress(&state.info);
   const bool ok = RunJpegEncode(&state);
   jpeg_destroy_compress(&state.info);
