@@ -886,7 +886,8 @@ PYBIND11_MODULE(_zeroreg, m) {
       "read_depth",
       [](const py::object& path_obj) {
         const std::string path = PathFromPython(path_obj, "path");
-        const cv::Mat raw = detail::ReadImageFile(path, "depth image", detail::ImageMode::kUnchanged);
+        const cv::Mat raw =
+            detail::ReadImageFile(path, "depth image", detail::ImageMode::kUnchanged);
         if (raw.empty()) {
           throw MakeInputError(path, "cannot be read or decoded; expected a 16-bit PNG");
         }

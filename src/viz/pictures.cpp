@@ -238,7 +238,8 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
   std::vector<std::string> written;
   auto write = [&](const std::string& name, const cv::Mat& image) {
     const std::string path = (std::filesystem::path(dir) / name).string();
-    if (!detail::WriteImageFile(path, image)) throw MakeInputError(path, "cannot write the picture");
+    if (!detail::WriteImageFile(path, image))
+      throw MakeInputError(path, "cannot write the picture");
     written.push_back(path);
   };
   const size_t views = std::min(source.views.size(), target.views.size());
