@@ -34,15 +34,37 @@ def test_numpy_uint16_depth_gives_the_same_result_as_paths(pipeline, result_20_0
     np.testing.assert_array_equal(r.source_points, result_20_0_from_paths.source_points)
 
 
+def _png_rgb(width, height, pixels):
+    """A minimal 8-bit RGB PNG (no filter) built with the standard library."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF))
+
+    rows = b"".join(b"\x00" + pixels[3 * width * y:3 * width * (y + 1)] for y in range(height))
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows))
+            + chunk(b"IEND", b""))
+
+
 def test_read_color_returns_rgb(tmp_path):
-    # A binary PPM stores RGB bytes in order, independently of OpenCV's BGR convention.
-    path = tmp_path / "rgb.ppm"
+    # A PNG stores RGB bytes in order, independently of OpenCV's BGR convention.
+    path = tmp_path / "rgb.png"
     pixels = bytes([255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30])  # red, green, blue, mixed
-    path.write_bytes(b"P6\n2 2\n255\n" + pixels)
+    path.write_bytes(_png_rgb(2, 2, pixels))
     color = zeroreg.read_color(str(path))
     assert color.shape == (2, 2, 3) and color.dtype == np.uint8
     expected = np.frombuffer(pixels, np.uint8).reshape(4, 3)
     np.testing.assert_array_equal(color.reshape(4, 3), expected)
+
+
+def test_read_color_refuses_other_formats_naming_the_file(tmp_path):
+    path = tmp_path / "rgb.ppm"
+    path.write_bytes(b"P6\n2 2\n255\n" + bytes(12))
+    with pytest.raises(ValueError, match=r"rgb\.ppm.*expected a PNG or JPEG file"):
+        zeroreg.read_color(str(path))
 
 
 def test_load_scan_round_trip_with_float_metres(pipeline, result_20_0_from_paths, gt_20_0):
