@@ -461,8 +461,8 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   // The model files are independent: the feature extractor is verified and loaded on a second
   // thread while the object models load here. Most of it is single-threaded (sha256 of the file,
   // ONNX Runtime's graph optimisation of a session: ~100 ms for XFeat), so the two halves
-  // overlap instead of adding up. The models are the same either way; a failure of the features is reported
-  // first whatever the thread count (RunBoth).
+  // overlap instead of adding up. The models are the same either way; a failure of the features is
+  // reported first whatever the thread count (RunBoth).
   RunBoth(config.threads >= 2, load_features, load_objects);
   m.correspondence_source = std::make_unique<ObjectCorrespondenceSource>(
       m.config, *m.extractor, *m.detector, *m.segmenter, m.embedder.get(), *m.matcher);
