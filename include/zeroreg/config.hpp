@@ -165,6 +165,14 @@ struct InferenceConfig {
   // which costs little because the models are a small part of a pair's time. Outputs do not depend
   // on this number (tested: tests/inference). OpenCV DNN uses its own pool, not this value.
   int threads = 2;
+  // Where ONNX Runtime's optimised graphs are kept between processes, so that a session loads the
+  // graph an earlier process optimised instead of optimising the model again (ORT_ENABLE_ALL is
+  // ~60-75 ms of XFeat's session creation on 2 cores; the outputs are bit-identical). "auto":
+  // $ZEROREG_CACHE_DIR, else $XDG_CACHE_HOME/zeroreg, else ~/.cache/zeroreg (plus
+  // /onnxruntime-graphs); "off": never read or write; anything else: that directory. An entry is
+  // keyed to the model's sha256, the ONNX Runtime version and the CPU's features; a directory that
+  // cannot be written only costs the time saved (docs/SPEED.md).
+  std::string graph_cache = "auto";
 };
 
 // Object masks from the detection boxes (paper §3.2: SAMv2 prompted by the boxes). SAMv2 does not

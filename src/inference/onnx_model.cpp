@@ -1,10 +1,13 @@
 #include "inference/onnx_model.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <numeric>
 #include <opencv2/dnn.hpp>
+#include <optional>
 
+#include "inference/graph_cache.hpp"
 #include "zeroreg/error.hpp"
 
 #ifdef ZEROREG_WITH_ONNXRUNTIME
@@ -98,24 +101,66 @@ Ort::Env& Environment() {
   return *env;
 }
 
+// The options of every session: `level` ORT_ENABLE_ALL for a model file, ORT_DISABLE_ALL for a
+// graph the cache holds (optimised already); `save_as`, when given, is where ONNX Runtime writes
+// the optimised graph.
+Ort::SessionOptions SessionOptions(int threads, GraphOptimizationLevel level,
+                                   const std::string& save_as = "") {
+  Ort::SessionOptions options;
+  options.SetIntraOpNumThreads(threads);
+  options.SetInterOpNumThreads(1);
+  options.SetExecutionMode(ORT_SEQUENTIAL);
+  options.SetGraphOptimizationLevel(level);
+  // Idle pool threads sleep instead of spinning: the machine is shared (eval --jobs runs one
+  // model per job) and a spinning pool takes the cores other jobs need.
+  options.AddConfigEntry("session.intra_op.allow_spinning", "0");
+  options.SetDeterministicCompute(true);
+  if (!save_as.empty()) options.SetOptimizedModelFilePath(save_as.c_str());
+  return options;
+}
+
 class OrtModel : public OnnxModel {
  public:
-  OrtModel(const std::string& path, const std::string& what, int threads)
+  OrtModel(const std::string& path, const std::string& what, int threads,
+           const std::string& graph_cache)
       : path_(path), what_(what) {
-    try {
-      Ort::SessionOptions options;
-      options.SetIntraOpNumThreads(threads);
-      options.SetInterOpNumThreads(1);
-      options.SetExecutionMode(ORT_SEQUENTIAL);
-      options.SetGraphOptimizationLevel(GraphOptimizationLevel::ORT_ENABLE_ALL);
-      // Idle pool threads sleep instead of spinning: the machine is shared (eval --jobs runs one
-      // model per job) and a spinning pool takes the cores other jobs need.
-      options.AddConfigEntry("session.intra_op.allow_spinning", "0");
-      options.SetDeterministicCompute(true);
-      session_ = std::make_unique<Ort::Session>(Environment(), path.c_str(), options);
-    } catch (const Ort::Exception& e) {
-      throw MakeInputError(path, "cannot load the " + what + " with ONNX Runtime: " + e.what());
+    std::optional<GraphCacheEntry> entry;
+    if (const std::optional<std::string> directory = GraphCacheDirectory(graph_cache)) {
+      entry = GraphCacheEntryFor(*directory, path, OnnxRuntimeVersion());
     }
+    if (entry && GraphCacheEntryValid(*entry)) {
+      try {
+        session_ = std::make_unique<Ort::Session>(Environment(), entry->graph_path.c_str(),
+                                                  SessionOptions(threads, ORT_DISABLE_ALL));
+        from_graph_cache_ = true;
+        return;
+      } catch (const Ort::Exception&) {
+        // Not loadable after all (a graph of another build of the same version): optimise anew,
+        // which replaces it below.
+      }
+    }
+    std::optional<std::string> scratch = entry ? GraphCacheScratchPath(*entry) : std::nullopt;
+    try {
+      session_ = std::make_unique<Ort::Session>(
+          Environment(), path.c_str(),
+          SessionOptions(threads, ORT_ENABLE_ALL, scratch ? *scratch : std::string()));
+    } catch (const Ort::Exception& e) {
+      if (!scratch) {
+        throw MakeInputError(path, "cannot load the " + what + " with ONNX Runtime: " + e.what());
+      }
+      // Perhaps only the saving failed: once more without it, which names the model if it fails.
+      std::error_code ignored;
+      std::filesystem::remove(*scratch, ignored);
+      scratch.reset();
+      try {
+        session_ = std::make_unique<Ort::Session>(Environment(), path.c_str(),
+                                                  SessionOptions(threads, ORT_ENABLE_ALL));
+      } catch (const Ort::Exception& again) {
+        throw MakeInputError(path,
+                             "cannot load the " + what + " with ONNX Runtime: " + again.what());
+      }
+    }
+    if (scratch) CommitGraphCacheEntry(*entry, *scratch);
   }
   InferenceEngine engine() const override { return InferenceEngine::kOnnxRuntime; }
 
@@ -164,9 +209,12 @@ class OrtModel : public OnnxModel {
     return names;
   }
 
+  bool FromGraphCache() const override { return from_graph_cache_; }
+
  private:
   std::string path_, what_;
   std::unique_ptr<Ort::Session> session_;
+  bool from_graph_cache_ = false;
 };
 
 #endif  // ZEROREG_WITH_ONNXRUNTIME
@@ -185,10 +233,22 @@ bool OnnxRuntimeAvailable() {
 #endif
 }
 
+std::string OnnxRuntimeVersion() {
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+  return OrtGetApiBase()->GetVersionString();
+#else
+  return "";
+#endif
+}
+
 InferenceEngine ResolveEngine(const InferenceConfig& config) {
   if (config.threads < 1 || config.threads > 256) {
     throw MakeInputError("inference.threads",
                          "is " + std::to_string(config.threads) + ", expected 1..256");
+  }
+  if (config.graph_cache.empty()) {
+    throw MakeInputError("inference.graph_cache",
+                         "is empty, expected \"auto\", \"off\" or a directory");
   }
   if (config.engine == "auto") {
     return OnnxRuntimeAvailable() ? InferenceEngine::kOnnxRuntime : InferenceEngine::kOpenCv;
@@ -209,17 +269,19 @@ InferenceEngine ResolveEngine(const InferenceConfig& config) {
 
 std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
                                          const InferenceConfig& config) {
-  return LoadOnnxModel(path, what, ResolveEngine(config), config.threads);
+  return LoadOnnxModel(path, what, ResolveEngine(config), config.threads, config.graph_cache);
 }
 
 std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
-                                         InferenceEngine engine, int threads) {
+                                         InferenceEngine engine, int threads,
+                                         const std::string& graph_cache) {
   RequireReadable(path, what);
   if (engine == InferenceEngine::kOpenCv) return std::make_unique<OpenCvModel>(path, what);
 #ifdef ZEROREG_WITH_ONNXRUNTIME
-  return std::make_unique<OrtModel>(path, what, threads);
+  return std::make_unique<OrtModel>(path, what, threads, graph_cache);
 #else
   (void)threads;
+  (void)graph_cache;
   throw MakeInputError(path, "the " + what + " needs ONNX Runtime, which this build lacks");
 #endif
 }

@@ -21,9 +21,12 @@ std::string EngineName(InferenceEngine engine);
 // Whether this build links ONNX Runtime (CMake ZEROREG_WITH_ONNXRUNTIME, docs/INSTALL.md).
 bool OnnxRuntimeAvailable();
 
+// The linked ONNX Runtime's version ("1.29.0"), or "" in a build without it.
+std::string OnnxRuntimeVersion();
+
 // inference.engine resolved: "auto" is onnxruntime when available, else opencv. Throws InputError
 // naming inference.engine for an unknown name, or for "onnxruntime" in a build without it, and
-// naming inference.threads when it is outside 1..256.
+// naming inference.threads when it is outside 1..256 and inference.graph_cache when it is empty.
 InferenceEngine ResolveEngine(const InferenceConfig& config);
 
 // A float32 input: a name of the model's graph inputs, its shape and row-major data (not owned;
@@ -51,13 +54,19 @@ class OnnxModel {
                                   const std::vector<std::string>& outputs) const = 0;
   // Names of the model's graph outputs, in the model's order (what Run accepts in `outputs`).
   virtual std::vector<std::string> OutputNames() const = 0;
+  // Whether ONNX Runtime loaded the optimised graph from inference.graph_cache instead of
+  // optimising the model file (always false for OpenCV DNN).
+  virtual bool FromGraphCache() const { return false; }
 };
 
 // Loads the model at `path` for the engine of `config`. `what` names the model in errors
 // ("XFeat ONNX model"). Throws InputError naming the file when it cannot be read or loaded.
 std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
                                          const InferenceConfig& config);
+// `graph_cache` is inference.graph_cache ("auto", "off" or a directory; ONNX Runtime only,
+// src/inference/graph_cache.hpp).
 std::unique_ptr<OnnxModel> LoadOnnxModel(const std::string& path, const std::string& what,
-                                         InferenceEngine engine, int threads);
+                                         InferenceEngine engine, int threads,
+                                         const std::string& graph_cache = "off");
 
 }  // namespace zeroreg

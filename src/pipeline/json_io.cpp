@@ -164,6 +164,7 @@ template <typename V>
 void Visit(V& v, InferenceConfig& c) {
   v("engine", c.engine);
   v("threads", c.threads, Between(1, 256));
+  v("graph_cache", c.graph_cache);
 }
 template <typename V>
 void Visit(V& v, SemanticsConfig& c) {

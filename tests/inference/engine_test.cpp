@@ -47,6 +47,10 @@ TEST(InferenceEngine, ResolvesNamesAndRejectsBadOnes) {
   ExpectInputError([] { ResolveEngine(Engine("tensorrt")); },
                    {"inference.engine", "tensorrt", "auto, onnxruntime, opencv"});
   ExpectInputError([] { ResolveEngine(Engine("auto", 0)); }, {"inference.threads", "1..256"});
+  InferenceConfig no_cache = Engine("auto");
+  no_cache.graph_cache = "";
+  ExpectInputError([&] { ResolveEngine(no_cache); },
+                   {"inference.graph_cache", "\"auto\", \"off\" or a directory"});
   if (OnnxRuntimeAvailable()) {
     EXPECT_EQ(ResolveEngine(Engine("onnxruntime")), InferenceEngine::kOnnxRuntime);
   } else {
