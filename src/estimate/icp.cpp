@@ -1,6 +1,5 @@
 #include "estimate/icp.hpp"
 
-#include <open3d/geometry/KDTreeFlann.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
 
@@ -13,6 +12,7 @@
 #include <stdexcept>
 
 #include "estimate/lift.hpp"
+#include "estimate/point_kd_tree.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
@@ -35,20 +35,20 @@ struct IcpGeometry::Level {
 
   // Normals and k-d tree, made once however many threads ask (the thinned points stay as they
   // are: a source only reads them).
-  const open3d::geometry::KDTreeFlann& MakeTargetReady() const {
+  const PointKdTree& MakeTargetReady() const {
     std::call_once(target_once, [this] {
       if (cloud.points_.size() < 6) return;
       // Each normal depends only on its neighbourhood, so Open3D's parallel estimation is still
       // deterministic.
       cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(3 * voxel_m, 30));
-      tree = std::make_unique<open3d::geometry::KDTreeFlann>(cloud);
+      tree = std::make_unique<PointKdTree>(cloud.points_);
     });
     return *tree;
   }
 
  private:
   mutable std::once_flag target_once;
-  mutable std::unique_ptr<open3d::geometry::KDTreeFlann> tree;
+  mutable std::unique_ptr<PointKdTree> tree;
 };
 
 IcpGeometry::IcpGeometry() = default;
@@ -114,8 +114,8 @@ namespace {
 // closest-point search is the costly part and the only parallel one: each source point's
 // neighbour is found independently, then the sums run serially in point order.
 void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& target_level,
-              const open3d::geometry::KDTreeFlann& tree, const IcpStage& stage,
-              const IcpAnchors& anchors, int threads, Transform* T, IcpResult* result) {
+              const PointKdTree& tree, const IcpStage& stage, const IcpAnchors& anchors,
+              int threads, Transform* T, IcpResult* result) {
   const std::vector<Eigen::Vector3d>& source = source_level.cloud.points_;
   const open3d::geometry::PointCloud& target = target_level.cloud;
   const double gate_sq = stage.max_distance_m * stage.max_distance_m;
@@ -144,14 +144,11 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
   for (int it = 0; it < stage.iterations; ++it) {
     const Transform current = *T;
     ParallelFor(source.size(), threads, [&](size_t begin, size_t end) {
-      std::vector<int> index(1);
-      std::vector<double> distance_sq(1);
       for (size_t i = begin; i < end; ++i) {
         moved[i] = (current * source[i].homogeneous()).head<3>();
-        const bool found =
-            tree.SearchKNN(moved[i], 1, index, distance_sq) >= 1 && distance_sq[0] <= gate_sq;
-        nearest[i] = found ? index[0] : -1;
-        nearest_sq[i] = found ? distance_sq[0] : 0.0;
+        double distance_sq = 0.0;
+        nearest[i] = tree.Nearest(moved[i], gate_sq, &distance_sq);
+        nearest_sq[i] = nearest[i] >= 0 ? distance_sq : 0.0;
       }
     });
     // Linearised point-to-plane residual n^T (R p + t - q) with R ~ I + [w]x, x = [w; t].
@@ -263,7 +260,7 @@ IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& targe
       throw std::logic_error("RefinePointToPlane: geometry not built for this ICP schedule");
     }
     if (s->cloud.points_.size() < 6 || t->cloud.points_.size() < 6) break;
-    const open3d::geometry::KDTreeFlann& tree = t->MakeTargetReady();
+    const PointKdTree& tree = t->MakeTargetReady();
     RunStage(*s, *t, tree, stage, anchors, threads, &T, &result);
   }
   result.T_target_source = T;

@@ -1,7 +1,7 @@
 // Optional refinement of a registration by coarse-to-fine point-to-plane ICP on the scans'
-// geometry (issue 6). Our own Gauss-Newton loop on Open3D's k-d tree and normals, with serial
-// reductions, so the result is a function of the input only (Open3D's ICP sums in parallel
-// threads).
+// geometry (issue 6). Our own Gauss-Newton loop on Open3D's normals and our own k-d tree
+// (point_kd_tree.hpp), with serial reductions, so the result is a function of the input only
+// (Open3D's ICP sums in parallel threads).
 #pragma once
 
 #include <Eigen/Core>
