@@ -185,10 +185,12 @@ TEST(SegmenterGrabCutDepth, BoxAtImageBorderAndTinyBox) {
 
 // ---- real frames ------------------------------------------------------------------------------
 
-void CheckRealMasks(int frame_id) {
+void CheckRealMasks(int frame_id, const std::string& backend = "grabcut-depth") {
   const Frame& f = RedkitchenFrame(frame_id);
   ASSERT_FALSE(f.detections.empty());
-  auto seg = MakeSegmenter(SegmenterConfig{});
+  SegmenterConfig config;
+  config.backend = backend;
+  auto seg = MakeSegmenter(config);
   std::vector<double> ms;
   for (size_t i = 0; i < f.detections.size(); ++i) {
     const Detection& d = f.detections[i];
@@ -212,15 +214,53 @@ void CheckRealMasks(int frame_id) {
     const double iqr_mask = DepthIqr(f.depth, mask), iqr_box = DepthIqr(f.depth, box);
     EXPECT_LT(iqr_mask, iqr_box);
     std::printf(
-        "[ segment  ] frame %d #%zu %-13s box %4.0fx%-4.0f fraction %.2f IQR %.3f / %.3f m"
+        "[ segment  ] %s frame %d #%zu %-13s box %4.0fx%-4.0f fraction %.2f IQR %.3f / %.3f m"
         " (mask / box)  %.1f ms\n",
-        frame_id, i, d.label.c_str(), d.box.width, d.box.height, fraction, iqr_mask, iqr_box,
-        ms.back());
+        backend.c_str(), frame_id, i, d.label.c_str(), d.box.width, d.box.height, fraction,
+        iqr_mask, iqr_box, ms.back());
   }
 }
 
 TEST(SegmenterGrabCutDepth, RedkitchenFrame0) { CheckRealMasks(0); }
 TEST(SegmenterGrabCutDepth, RedkitchenFrame500) { CheckRealMasks(500); }
+TEST(SegmenterDepthOnly, RedkitchenFrame0) { CheckRealMasks(0, "depth"); }
+TEST(SegmenterDepthGrabCut, RedkitchenFrame0) { CheckRealMasks(0, "depth-grabcut"); }
+TEST(SegmenterDepthGrabCut, RedkitchenFrame500) { CheckRealMasks(500, "depth-grabcut"); }
+
+// "depth-grabcut" gives each box the "depth" mask where that mask leaves part of the box's depth
+// out, else the "grabcut-depth" mask: on frame 500 the books lying on the table (the same depth as
+// the table) get GrabCut's mask, and depth alone covers every valid pixel of the first book's box.
+TEST(SegmenterDepthGrabCut, ColourOnlyWhereDepthFindsNoOutline) {
+  const auto make = [](const std::string& backend) {
+    SegmenterConfig config;
+    config.backend = backend;
+    return MakeSegmenter(config);
+  };
+  auto depth_only = make("depth"), grabcut = make("grabcut-depth"), both = make("depth-grabcut");
+  int coloured = 0, depth_alone = 0;
+  for (int id : {0, 500}) {
+    const Frame& f = RedkitchenFrame(id);
+    for (size_t i = 0; i < f.detections.size(); ++i) {
+      const Detection& d = f.detections[i];
+      SCOPED_TRACE("frame " + std::to_string(id) + " detection " + std::to_string(i) + " " +
+                   d.label);
+      const int index = static_cast<int>(i);
+      const cv::Mat a = depth_only->Segment(f.bgr, f.depth, d, index, f.name);
+      const cv::Mat b = grabcut->Segment(f.bgr, f.depth, d, index, f.name);
+      const cv::Mat c = both->Segment(f.bgr, f.depth, d, index, f.name);
+      const cv::Mat valid = BoxMask(d.box, f.bgr.size()) & (f.depth > 0.0f);
+      const bool outline = cv::countNonZero(a) < 0.9 * cv::countNonZero(valid);
+      EXPECT_EQ(cv::countNonZero(c != (outline ? a : b)), 0);
+      (outline ? depth_alone : coloured) += 1;
+      if (id == 500 && i == 6) {
+        EXPECT_EQ(d.label, "book");
+        EXPECT_FALSE(outline);
+      }
+    }
+  }
+  EXPECT_GE(coloured, 1);
+  EXPECT_GE(depth_alone, 8);
+}
 
 TEST(SegmenterGrabCutDepth, TimingPerBoxPrinted) {
   // Informational: median wall and thread-CPU time per box over 5 passes over the boxes of frames
@@ -355,12 +395,28 @@ TEST_F(SegmenterFile, NotSingleChannel8BitNamed) {
   ExpectInputError([&] { Run(1); }, {"frame-000003.color_1.png", "16-bit", "single-channel"});
 }
 
+// backend "depth": no GrabCut, only the depth layer around the box centre's median depth. The disk
+// stands 1 m in front of the background, so depth alone finds it, whatever its colour.
+TEST(SegmenterDepthOnly, SyntheticDiskRecoveredFromDepthAlone) {
+  cv::Mat bgr, depth;
+  const cv::Mat truth = SyntheticDisk(cv::Scalar(200, 40, 180), 0, &bgr, &depth);
+  bgr.setTo(cv::Scalar(90, 90, 90));  // no colour contrast left
+  SegmenterConfig config;
+  config.backend = "depth";
+  auto seg = MakeSegmenter(config);
+  EXPECT_EQ(seg->name(), "depth");
+  const cv::Mat mask = seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  ExpectBinaryMask(mask, bgr.size());
+  EXPECT_EQ(cv::countNonZero(mask & ~truth), 0);
+  EXPECT_GT(Iou(mask, truth), 0.75);
+}
+
 // ---- bad inputs and config ----------------------------------------------------------------------
 
 TEST(SegmenterInputs, BadImagesNamed) {
   const cv::Mat bgr(48, 64, CV_8UC3, cv::Scalar(1, 2, 3));
   const cv::Mat depth(48, 64, CV_32FC1, cv::Scalar(1.0f));
-  for (const char* backend : {"grabcut-depth", "box"}) {
+  for (const char* backend : {"grabcut-depth", "depth", "box"}) {
     SegmenterConfig config;
     config.backend = backend;
     auto seg = MakeSegmenter(config);
