@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <vector>
@@ -95,6 +96,13 @@ cv::Mat BoxMask(const cv::Rect2f& box, cv::Size size) {
   return m;
 }
 
+// The GrabCut backend (the tests below are about GrabCut's own behaviour, whatever the default).
+std::unique_ptr<Segmenter> GrabCutSegmenter() {
+  SegmenterConfig config;
+  config.backend = "grabcut-depth";
+  return MakeSegmenter(config);
+}
+
 // ---- synthetic scenes with a known object mask
 // ---------------------------------------------------
 
@@ -120,7 +128,7 @@ cv::Mat SyntheticDisk(const cv::Scalar& disk_colour, int depth_shift, cv::Mat* b
 TEST(SegmenterGrabCutDepth, SyntheticDiskRecovered) {
   cv::Mat bgr, depth;
   const cv::Mat truth = SyntheticDisk(cv::Scalar(200, 40, 180), 0, &bgr, &depth);
-  auto seg = MakeSegmenter(SegmenterConfig{});
+  auto seg = GrabCutSegmenter();
   EXPECT_EQ(seg->name(), "grabcut-depth");
   const cv::Mat mask = seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
   ExpectBinaryMask(mask, bgr.size());
@@ -135,8 +143,8 @@ TEST(SegmenterGrabCutDepth, MisalignedDepthDoesNotBleed) {
   // rim of the disk on the wall behind it. Every mask pixel must lie on the disk in BOTH images.
   cv::Mat bgr, depth;
   const cv::Mat truth = SyntheticDisk(cv::Scalar(200, 40, 180), 5, &bgr, &depth);
-  const cv::Mat mask = MakeSegmenter(SegmenterConfig{})
-                           ->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  const cv::Mat mask =
+      GrabCutSegmenter()->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
   ASSERT_GT(cv::countNonZero(mask), 0.6 * cv::countNonZero(truth));
   for (int v = 0; v < mask.rows; ++v) {
     for (int u = 0; u < mask.cols; ++u) {
@@ -159,8 +167,7 @@ TEST(SegmenterGrabCutDepth, SameColourFallsBackToDepthLayer) {
   cv::RNG rng(7);
   rng.fill(textured, cv::RNG::UNIFORM, cv::Scalar(20, 120, 20), cv::Scalar(70, 200, 90));
   const cv::Mat mask =
-      MakeSegmenter(SegmenterConfig{})
-          ->Segment(textured, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+      GrabCutSegmenter()->Segment(textured, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
   EXPECT_EQ(cv::countNonZero(mask & ~truth), 0);
   EXPECT_GT(Iou(mask, truth), 0.7);
 }
@@ -168,7 +175,7 @@ TEST(SegmenterGrabCutDepth, SameColourFallsBackToDepthLayer) {
 TEST(SegmenterGrabCutDepth, BoxAtImageBorderAndTinyBox) {
   cv::Mat bgr, depth;
   SyntheticDisk(cv::Scalar(200, 40, 180), 0, &bgr, &depth);
-  auto seg = MakeSegmenter(SegmenterConfig{});
+  auto seg = GrabCutSegmenter();
   // Whole-image box: GrabCut has no outside ring; must still return a valid mask.
   const cv::Mat whole = seg->Segment(bgr, depth, MakeDetection(0, 0, 320, 240), 0, "disk.png");
   ExpectBinaryMask(whole, bgr.size());
@@ -264,36 +271,42 @@ TEST(SegmenterDepthGrabCut, ColourOnlyWhereDepthFindsNoOutline) {
 
 TEST(SegmenterGrabCutDepth, TimingPerBoxPrinted) {
   // Informational: median wall and thread-CPU time per box over 5 passes over the boxes of frames
-  // 0 and 500. The 2 cores are shared, so wall time depends on the load; no assertion on time.
-  auto seg = MakeSegmenter(SegmenterConfig{});
-  std::vector<double> wall, cpu;
-  for (int pass = 0; pass < 5; ++pass) {
-    for (int id : {0, 500}) {
-      const Frame& f = RedkitchenFrame(id);
-      for (size_t i = 0; i < f.detections.size(); ++i) {
-        const double c0 = perception_test::ThreadCpuMs();
-        const auto t0 = std::chrono::steady_clock::now();
-        const cv::Mat mask =
-            seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i), f.name);
-        wall.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count());
-        cpu.push_back(perception_test::ThreadCpuMs() - c0);
-        ASSERT_GT(cv::countNonZero(mask), 0);
+  // 0 and 500, for each backend built on the depth layer. The 2 cores are shared, so wall time
+  // depends on the load; no assertion on time.
+  for (const char* backend : {"grabcut-depth", "depth-grabcut", "depth"}) {
+    SegmenterConfig config;
+    config.backend = backend;
+    auto seg = MakeSegmenter(config);
+    std::vector<double> wall, cpu;
+    for (int pass = 0; pass < 5; ++pass) {
+      for (int id : {0, 500}) {
+        const Frame& f = RedkitchenFrame(id);
+        for (size_t i = 0; i < f.detections.size(); ++i) {
+          const double c0 = perception_test::ThreadCpuMs();
+          const auto t0 = std::chrono::steady_clock::now();
+          const cv::Mat mask =
+              seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i), f.name);
+          wall.push_back(
+              std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
+                  .count());
+          cpu.push_back(perception_test::ThreadCpuMs() - c0);
+          ASSERT_GT(cv::countNonZero(mask), 0);
+        }
       }
     }
+    std::printf(
+        "[ segment  ] %s over %zu boxes: median %.1f ms wall (min %.1f, max %.1f), "
+        "median %.1f ms thread CPU, mean %.1f ms thread CPU\n",
+        backend, wall.size(), perception_test::Median(wall),
+        *std::min_element(wall.begin(), wall.end()), *std::max_element(wall.begin(), wall.end()),
+        perception_test::Median(cpu), std::accumulate(cpu.begin(), cpu.end(), 0.0) / cpu.size());
   }
-  std::printf(
-      "[ segment  ] grabcut-depth over %zu boxes: median %.1f ms wall (min %.1f, max %.1f), "
-      "median %.1f ms thread CPU\n",
-      wall.size(), perception_test::Median(wall), *std::min_element(wall.begin(), wall.end()),
-      *std::max_element(wall.begin(), wall.end()), perception_test::Median(cpu));
 }
 
 TEST(SegmenterGrabCutDepth, DeterministicAcrossCallsAndInstances) {
   const Frame& f = RedkitchenFrame(0);
   ASSERT_GE(f.detections.size(), 3u);
-  auto seg = MakeSegmenter(SegmenterConfig{});
+  auto seg = GrabCutSegmenter();
   const cv::Mat first = seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
   // Other boxes in between, the caller's RNG moved on: same mask, caller's RNG untouched.
   for (size_t i = 0; i < f.detections.size(); ++i) {
@@ -305,7 +318,7 @@ TEST(SegmenterGrabCutDepth, DeterministicAcrossCallsAndInstances) {
   const cv::Mat again = seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
   EXPECT_EQ(cv::theRNG().state, state);
   const cv::Mat other_instance =
-      MakeSegmenter(SegmenterConfig{})->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
+      GrabCutSegmenter()->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
   EXPECT_EQ(cv::countNonZero(first != again), 0);
   EXPECT_EQ(cv::countNonZero(first != other_instance), 0);
 }
