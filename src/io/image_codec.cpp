@@ -253,11 +253,23 @@ bool RunJpegEncode(JpegEncodeState* state) {
 
 }  // namespace
 
-cv::Mat DecodeImage(const std::vector<std::uint8_t>& bytes, ImageMode mode) {
+ImageFormat SniffImageFormat(const std::vector<std::uint8_t>& bytes) {
   static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) return DecodePng(bytes, mode);
+  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) return ImageFormat::kPng;
   if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
-    return DecodeJpeg(bytes, mode);
+    return ImageFormat::kJpeg;
+  }
+  return ImageFormat::kUnknown;
+}
+
+cv::Mat DecodeImage(const std::vector<std::uint8_t>& bytes, ImageMode mode) {
+  switch (SniffImageFormat(bytes)) {
+    case ImageFormat::kPng:
+      return DecodePng(bytes, mode);
+    case ImageFormat::kJpeg:
+      return DecodeJpeg(bytes, mode);
+    case ImageFormat::kUnknown:
+      break;
   }
   return {};
 }

@@ -25,6 +25,11 @@ enum class ImageMode {
   kUnchanged,
 };
 
+// The format a file's first bytes announce: the PNG signature (8 bytes) or a JPEG start-of-image
+// marker followed by another marker (FF D8 FF). Nothing past them is checked.
+enum class ImageFormat { kUnknown, kPng, kJpeg };
+ImageFormat SniffImageFormat(const std::vector<std::uint8_t>& bytes);
+
 // Decodes a PNG or JPEG file held in memory. Returns an empty Mat when the bytes are neither
 // format; throws std::runtime_error with libpng's / libjpeg's message when they are one of them
 // but cannot be decoded.

@@ -91,10 +91,13 @@ std::uint64_t MaxImagePixels() {
 }
 
 ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes) {
-  static const std::uint8_t kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
-  if (bytes.size() >= 8 && std::equal(kPng, kPng + 8, bytes.begin())) return InspectPng(bytes);
-  if (bytes.size() >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF) {
-    return InspectJpeg(bytes);
+  switch (SniffImageFormat(bytes)) {
+    case ImageFormat::kPng:
+      return InspectPng(bytes);
+    case ImageFormat::kJpeg:
+      return InspectJpeg(bytes);
+    case ImageFormat::kUnknown:
+      break;
   }
   return {};
 }
