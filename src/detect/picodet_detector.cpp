@@ -141,7 +141,7 @@ PicodetDetector::PicodetDetector(const std::string& onnx_path, const std::string
                          opencv ? "PicoDet ONNX model (expected the Clip-rewritten PicoDet export "
                                   "that scripts/fetch-assets.sh makes)"
                                 : "PicoDet ONNX model (corrupt or not the PicoDet-S 416 export?)",
-                         engine, inference.threads);
+                         engine, inference.threads, inference.graph_cache);
   output_names_ = model_->OutputNames();
 }
 

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <system_error>
 
@@ -106,16 +107,21 @@ GraphCacheEntry GraphCacheEntryFor(const std::string& directory, const std::stri
   return entry;
 }
 
-bool GraphCacheEntryValid(const GraphCacheEntry& entry) {
-  std::error_code error;
-  if (!fs::is_regular_file(entry.graph_path, error)) return false;
+std::optional<std::vector<char>> ReadValidGraph(const GraphCacheEntry& entry) {
   const std::string expected = ReadFirstLine(entry.digest_path);
-  if (expected.size() != 64) return false;
-  try {
-    return Sha256OfFile(entry.graph_path) == expected;
-  } catch (const std::exception&) {
-    return false;  // vanished or unreadable meanwhile: treated as absent
-  }
+  if (expected.size() != 64) return std::nullopt;
+  std::ifstream in(entry.graph_path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) return std::nullopt;
+  detail::Sha256 hash;
+  hash.Update(bytes.data(), bytes.size());
+  if (hash.HexDigest() != expected) return std::nullopt;
+  return bytes;
+}
+
+bool GraphCacheEntryValid(const GraphCacheEntry& entry) {
+  return ReadValidGraph(entry).has_value();
 }
 
 std::optional<std::string> GraphCacheScratchPath(const GraphCacheEntry& entry) {

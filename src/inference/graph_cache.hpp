@@ -11,6 +11,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace zeroreg {
 
@@ -38,7 +39,12 @@ struct GraphCacheEntry {
 GraphCacheEntry GraphCacheEntryFor(const std::string& directory, const std::string& model_path,
                                    const std::string& runtime_version);
 
-// Whether the entry's graph exists and its sha256 equals the digest file's.
+// The entry's graph, read once, when it exists and its sha256 equals the digest file's; nullopt
+// otherwise. The caller loads these very bytes (not the file again, which another process may have
+// replaced meanwhile).
+std::optional<std::vector<char>> ReadValidGraph(const GraphCacheEntry& entry);
+
+// Whether ReadValidGraph would return the graph.
 bool GraphCacheEntryValid(const GraphCacheEntry& entry);
 
 // A fresh path beside the entry's graph for the runtime to write into (unique per process and

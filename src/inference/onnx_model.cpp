@@ -128,9 +128,10 @@ class OrtModel : public OnnxModel {
     if (const std::optional<std::string> directory = GraphCacheDirectory(graph_cache)) {
       entry = GraphCacheEntryFor(*directory, path, OnnxRuntimeVersion());
     }
-    if (entry && GraphCacheEntryValid(*entry)) {
+    const std::optional<std::vector<char>> cached = entry ? ReadValidGraph(*entry) : std::nullopt;
+    if (cached) {
       try {
-        session_ = std::make_unique<Ort::Session>(Environment(), entry->graph_path.c_str(),
+        session_ = std::make_unique<Ort::Session>(Environment(), cached->data(), cached->size(),
                                                   SessionOptions(threads, ORT_DISABLE_ALL));
         from_graph_cache_ = true;
         return;

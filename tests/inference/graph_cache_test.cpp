@@ -150,7 +150,8 @@ void ExpectSameFeatures(const ImageFeatures& a, const ImageFeatures& b, int fram
 }
 
 // The first session optimises and saves, the second loads the saved graph; XFeat's keypoints,
-// scores and descriptors and YOLOX's boxes are bit-identical to a session without the cache.
+// scores and descriptors and YOLOX's and PicoDet's boxes are bit-identical to a session without
+// the cache (SAM: tests/segment/sam_segmenter_test.cpp).
 TEST(GraphCache, CachedGraphsGiveBitIdenticalOutputs) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
   TempDir cache("graph_cache");
@@ -171,20 +172,32 @@ TEST(GraphCache, CachedGraphsGiveBitIdenticalOutputs) {
                          OnnxRuntime(cache.str()));
   YoloxDetector det_warm(paths.yolox_onnx, paths.yolox_classes, DetectorConfig{},
                          OnnxRuntime(cache.str()));
+  const auto picodet = [&](const std::string& graph_cache) {
+    return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_opencv_onnx,
+                                             paths.picodet_classes, DetectorConfig{},
+                                             OnnxRuntime(graph_cache));
+  };
+  const auto pico_plain = picodet("off"), pico_cold = picodet(cache.str()),
+             pico_warm = picodet(cache.str());
   for (int frame : {0, 500, 802}) {
     const cv::Mat img = cv::imread(FramePath(frame, "color.jpg"), cv::IMREAD_COLOR);
     ASSERT_FALSE(img.empty());
     ExpectSameFeatures(plain.Extract(img), cached.Extract(img), frame);
-    const std::vector<Detection> a = det_plain.Detect(img, "a.jpg");
-    for (Detector* d : {static_cast<Detector*>(&det_cold), static_cast<Detector*>(&det_warm)}) {
-      const std::vector<Detection> b = d->Detect(img, "b.jpg");
-      ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
-      for (size_t i = 0; i < a.size(); ++i) {
-        EXPECT_EQ(a[i].box, b[i].box) << "frame " << frame;
-        EXPECT_EQ(a[i].score, b[i].score) << "frame " << frame;
-        EXPECT_EQ(a[i].label, b[i].label) << "frame " << frame;
+    const auto expect_same = [&](Detector& reference,
+                                 std::initializer_list<Detector*> cached_ones) {
+      const std::vector<Detection> a = reference.Detect(img, "a.jpg");
+      for (Detector* d : cached_ones) {
+        const std::vector<Detection> b = d->Detect(img, "b.jpg");
+        ASSERT_EQ(a.size(), b.size()) << "frame " << frame;
+        for (size_t i = 0; i < a.size(); ++i) {
+          EXPECT_EQ(a[i].box, b[i].box) << "frame " << frame;
+          EXPECT_EQ(a[i].score, b[i].score) << "frame " << frame;
+          EXPECT_EQ(a[i].label, b[i].label) << "frame " << frame;
+        }
       }
-    }
+    };
+    expect_same(det_plain, {&det_cold, &det_warm});
+    expect_same(*pico_plain, {pico_cold.get(), pico_warm.get()});
   }
 }
 
@@ -204,6 +217,19 @@ TEST(GraphCache, DamagedOrUnwritableCacheFallsBackToTheModel) {
   EXPECT_FALSE(load(cache.str())->FromGraphCache());
   EXPECT_TRUE(GraphCacheEntryValid(entry));
   EXPECT_TRUE(load(cache.str())->FromGraphCache());
+  // A graph whose digest matches but that ONNX Runtime cannot load: optimised anew, replaced.
+  const std::optional<std::string> scratch = GraphCacheScratchPath(entry);
+  ASSERT_TRUE(scratch.has_value());
+  WriteFile(*scratch, "still not an ONNX graph");
+  ASSERT_TRUE(CommitGraphCacheEntry(entry, *scratch));
+  ASSERT_TRUE(GraphCacheEntryValid(entry));
+  EXPECT_FALSE(load(cache.str())->FromGraphCache());
+  EXPECT_TRUE(load(cache.str())->FromGraphCache());
+  // Nothing but the entries themselves is left in the directory (no scratch files).
+  for (const auto& file : fs::directory_iterator(cache.str())) {
+    const std::string name = file.path().filename().string();
+    EXPECT_EQ(name.find(".tmp-"), std::string::npos) << name;
+  }
 
   WriteFile(cache.str() + "/a-file", "x");
   const auto model = load(cache.str() + "/a-file/graphs");

