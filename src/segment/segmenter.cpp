@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "inference/onnx_model.hpp"
+#include "io/image_checks.hpp"
 #include "io/image_file.hpp"
 #include "segment/sam_segmenter.hpp"
 #include "zeroreg/assets.hpp"
@@ -125,12 +126,11 @@ class DepthSegmenter : public Segmenter {
 
     cv::Mat result;
     if (config_.backend == "grabcut-depth") {
-      result = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth);
+      result = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth, cv::Mat());
     } else {
       result = BoxLayer(depth, edges, size_per_metre_depth);
       if (config_.backend == "depth-grabcut" && !HasOutline(result, depth)) {
-        cv::Mat coloured = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth);
-        if (!coloured.empty()) result = coloured;
+        result = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth, result);
       }
     }
     if (!result.empty()) result.copyTo(mask(box));
@@ -139,14 +139,16 @@ class DepthSegmenter : public Segmenter {
 
  private:
   // GrabCut's mask kept to its depth layer, or the box's depth layer when GrabCut fails or loses
-  // the object (less than min_box_fraction of the box).
+  // the object (less than min_box_fraction of the box). `box_layer` is that layer when the caller
+  // has made it already (BoxLayer), else empty: made here only if needed.
   cv::Mat GrabCutLayer(const cv::Mat& bgr, const cv::Rect& box, const cv::Mat& depth,
-                       const cv::Mat& edges, double size_per_metre_depth) const {
+                       const cv::Mat& edges, double size_per_metre_depth,
+                       const cv::Mat& box_layer) const {
     const cv::Mat seed = GrabCutInBox(bgr, box);
     cv::Mat result;
     if (!seed.empty()) result = DepthLayer(depth, edges, seed, seed, size_per_metre_depth);
     if (result.empty() || cv::countNonZero(result) < config_.min_box_fraction * box.area()) {
-      result = BoxLayer(depth, edges, size_per_metre_depth);
+      result = box_layer.empty() ? BoxLayer(depth, edges, size_per_metre_depth) : box_layer;
     }
     return result;
   }
@@ -167,7 +169,7 @@ class DepthSegmenter : public Segmenter {
   // Whether a depth layer left out part of the box's valid depth (kDepthLayerWithoutOutline).
   static bool HasOutline(const cv::Mat& layer, const cv::Mat& depth) {
     if (layer.empty()) return false;
-    const int valid = cv::countNonZero(depth > 0.0f);
+    const int valid = detail::CountValidDepth(depth);
     return valid > 0 && cv::countNonZero(layer) < kDepthLayerWithoutOutline * valid;
   }
 
