@@ -40,8 +40,10 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
     }
   }
   // A fragment pair has 9 view pairs of a few thousand keypoints each: one Sinkhorn per pair is
-  // most of its matching time (issue 13), so the pairs are shared among the threads.
+  // most of its matching time (issue 13), so the pairs are shared among the threads. A frame pair
+  // has one, and its matcher gets the threads instead.
   std::vector<std::vector<Correspondence>> per_pair(view_pairs.size());
+  const int matcher_threads = view_pairs.size() == 1 ? threads : 1;
   ParallelFor(
       view_pairs.size(), threads,
       [&](size_t begin, size_t end) {
@@ -50,7 +52,7 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
           const LiftedFeatures& a = source[static_cast<size_t>(vs)];
           const LiftedFeatures& b = target[static_cast<size_t>(vt)];
           for (const DescriptorMatch& m :
-               matcher.Match(a.features.descriptors, b.features.descriptors)) {
+               matcher.Match(a.features.descriptors, b.features.descriptors, matcher_threads)) {
             per_pair[k].push_back({a.points[m.source], b.points[m.target],
                                    a.features.keypoints[m.source], b.features.keypoints[m.target],
                                    vs, vt, m.score});

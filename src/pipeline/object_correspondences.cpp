@@ -258,7 +258,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
         const std::vector<int>& rows_s = s.observation_rows[is];
         const std::vector<int>& rows_t = t.observation_rows[it];
         const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
-        for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors)) {
+        for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors, 1)) {
           const int a = rows_s[m.source], b = rows_t[m.target];
           if (!seen.emplace(os.view, a, ot.view, b).second) continue;
           result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],

@@ -21,9 +21,10 @@ class DescriptorMatcher {
  public:
   virtual ~DescriptorMatcher() = default;
   virtual std::string name() const = 0;
-  // Rows are L2-normalised descriptors of equal dimension. Returns matches sorted by source row.
+  // Rows are L2-normalised descriptors of equal dimension. Returns matches sorted by source row,
+  // the same whatever `threads` (how many threads the matcher may use; whole images use two).
   virtual std::vector<DescriptorMatch> Match(const Eigen::MatrixXf& source,
-                                             const Eigen::MatrixXf& target) const = 0;
+                                             const Eigen::MatrixXf& target, int threads) const = 0;
 };
 
 // Mutual nearest neighbours on cosine similarity S = G_P G_Q^T (Eq. 3), keeping pairs whose
@@ -32,8 +33,8 @@ class MutualNearestNeighbourMatcher : public DescriptorMatcher {
  public:
   explicit MutualNearestNeighbourMatcher(double min_cosine) : min_cosine_(min_cosine) {}
   std::string name() const override { return "mutual_nn"; }
-  std::vector<DescriptorMatch> Match(const Eigen::MatrixXf& source,
-                                     const Eigen::MatrixXf& target) const override;
+  std::vector<DescriptorMatch> Match(const Eigen::MatrixXf& source, const Eigen::MatrixXf& target,
+                                     int threads) const override;
 
  private:
   double min_cosine_;

@@ -3,8 +3,9 @@
 
 namespace zeroreg {
 
-std::vector<DescriptorMatch> MutualNearestNeighbourMatcher::Match(
-    const Eigen::MatrixXf& source, const Eigen::MatrixXf& target) const {
+std::vector<DescriptorMatch> MutualNearestNeighbourMatcher::Match(const Eigen::MatrixXf& source,
+                                                                  const Eigen::MatrixXf& target,
+                                                                  int /*threads*/) const {
   std::vector<DescriptorMatch> matches;
   if (source.rows() == 0 || target.rows() == 0) return matches;
   const Eigen::MatrixXf similarity = source * target.transpose();  // Eq. 3

@@ -13,11 +13,10 @@
 
 #include <Eigen/Core>
 
-#include "zeroreg/config.hpp"
 #include <vector>
+#include "zeroreg/config.hpp"
 
 namespace zeroreg {
-
 
 struct SinkhornMatch {
   int source = -1;           // row of G_P
@@ -46,9 +45,12 @@ std::vector<SinkhornMatch> MatchSinkhorn(const Eigen::MatrixXd& descriptors_sour
                                          const Eigen::MatrixXd& descriptors_target,
                                          const SinkhornConfig& config = {},
                                          Eigen::MatrixXd* log_assignment = nullptr);
+// Float descriptors (whole images) run in single precision without log P when log_assignment is
+// null, on up to `threads` threads; the matches are the same whatever the thread count.
 std::vector<SinkhornMatch> MatchSinkhorn(const Eigen::MatrixXf& descriptors_source,
                                          const Eigen::MatrixXf& descriptors_target,
                                          const SinkhornConfig& config = {},
-                                         Eigen::MatrixXd* log_assignment = nullptr);
+                                         Eigen::MatrixXd* log_assignment = nullptr,
+                                         int threads = 1);
 
 }  // namespace zeroreg

@@ -9,10 +9,10 @@ class SinkhornMatcher : public DescriptorMatcher {
  public:
   explicit SinkhornMatcher(const SinkhornConfig& config) : config_(config) {}
   std::string name() const override { return "sinkhorn"; }
-  std::vector<DescriptorMatch> Match(const Eigen::MatrixXf& source,
-                                     const Eigen::MatrixXf& target) const override {
+  std::vector<DescriptorMatch> Match(const Eigen::MatrixXf& source, const Eigen::MatrixXf& target,
+                                     int threads) const override {
     std::vector<DescriptorMatch> out;
-    for (const SinkhornMatch& m : MatchSinkhorn(source, target, config_)) {
+    for (const SinkhornMatch& m : MatchSinkhorn(source, target, config_, nullptr, threads)) {
       out.push_back({m.source, m.target, static_cast<float>(m.probability)});
     }
     return out;

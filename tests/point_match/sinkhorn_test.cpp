@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include "zeroreg/error.hpp"
 
@@ -168,6 +170,40 @@ TEST(Sinkhorn, RejectsBadInput) {
   // The float overload used with float descriptors gives the same matches.
   EXPECT_EQ(
       MatchSinkhorn(Eigen::MatrixXf(g.cast<float>()), Eigen::MatrixXf(g.cast<float>())).size(), 3u);
+}
+
+// The whole-image path splits the kernel's columns among threads (issue 13): the matches and
+// their probabilities are bit-identical for any thread count, for column counts that do and do not
+// divide into the blocks, and agree with the double-precision path.
+TEST(Sinkhorn, SameMatchesWhateverTheThreadCount) {
+  for (const auto& [n, m] : {std::pair<int, int>{700, 651}, {640, 3}, {3, 900}}) {
+    Eigen::MatrixXd gp = RandomUnitRows(n, 64, 21), gq = RandomUnitRows(m, 64, 22);
+    for (int k = 0; k < std::min(n, m) / 2; ++k) {
+      gq.row(k) = (gp.row(k) + 0.4 * gq.row(k)).normalized();
+    }
+    const Eigen::MatrixXf fp = gp.cast<float>(), fq = gq.cast<float>();
+    const std::vector<SinkhornMatch> one = MatchSinkhorn(fp, fq, {}, nullptr, 1);
+    Eigen::MatrixXd log_p;
+    const std::vector<SinkhornMatch> exact = MatchSinkhorn(gp, gq, {}, &log_p);
+    if (n > 100 && m > 100) {
+      ASSERT_GT(one.size(), 100u);
+    }
+    ASSERT_EQ(one.size(), exact.size()) << n << " x " << m;
+    for (size_t k = 0; k < one.size(); ++k) {
+      EXPECT_EQ(one[k].source, exact[k].source);
+      EXPECT_EQ(one[k].target, exact[k].target);
+      EXPECT_NEAR(one[k].probability, exact[k].probability, 1e-4);
+    }
+    for (const int threads : {2, 3, 8}) {
+      const std::vector<SinkhornMatch> many = MatchSinkhorn(fp, fq, {}, nullptr, threads);
+      ASSERT_EQ(many.size(), one.size()) << n << " x " << m << ", threads " << threads;
+      for (size_t k = 0; k < one.size(); ++k) {
+        EXPECT_EQ(many[k].source, one[k].source);
+        EXPECT_EQ(many[k].target, one[k].target);
+        EXPECT_EQ(many[k].probability, one[k].probability);  // bit for bit
+      }
+    }
+  }
 }
 
 // The single-precision path taken for float descriptors (whole images) gives the matches of the
