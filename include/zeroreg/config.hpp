@@ -417,6 +417,13 @@ struct MethodConfig {
   // every target view. Scans made of several views far apart in time (fused fragments) often
   // overlap only between different views.
   bool whole_image_all_view_pairs = true;
+  // Of those view pairs, whole-image matching uses only the best ones, ranked by a cheap overlap
+  // score (mutual ratio-test matches among each view's strongest 1024 keypoints,
+  // src/pipeline/image_correspondences.hpp): -1 = as many as the scan with more views has views
+  // (3 of 9 for two 3-view fragments: the cost grows with the views, not with their square);
+  // n > 0 = the best n; 0 = all of them. One Sinkhorn per view pair was most of a fragment
+  // pair's time. Frames (one view pair) are the same either way.
+  int whole_image_max_view_pairs = -1;
   // Which view pairs §3.4 matches inside a matched object pair: true = every view that sees the
   // source object with every view that sees the target object (issue 12, "use all views of a
   // scan"); false = view i with view i only. Frames (one view) are the same either way.

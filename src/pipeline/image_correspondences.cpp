@@ -30,15 +30,81 @@ int CountKeypoints(const std::vector<LiftedFeatures>& views) {
   return n;
 }
 
-void MatchWholeImages(const std::vector<LiftedFeatures>& source,
-                      const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
-                      bool all_view_pairs, int threads, std::vector<Correspondence>* out) {
+int ViewOverlapScore(const LiftedFeatures& a, const LiftedFeatures& b) {
+  // Keypoints come strongest first (FeatureExtractor), so the heads are the strongest.
+  const Eigen::Index n =
+      std::min<Eigen::Index>(a.features.descriptors.rows(), kOverlapScoreKeypoints);
+  const Eigen::Index m =
+      std::min<Eigen::Index>(b.features.descriptors.rows(), kOverlapScoreKeypoints);
+  if (n < 2 || m < 2) return 0;
+  const Eigen::MatrixXf cosine =
+      a.features.descriptors.topRows(n) * b.features.descriptors.topRows(m).transpose();
+  std::vector<Eigen::Index> best_source(static_cast<size_t>(m));
+  for (Eigen::Index j = 0; j < m; ++j) cosine.col(j).maxCoeff(&best_source[static_cast<size_t>(j)]);
+  // Unit descriptors: squared distance 2 - 2 cos, so d1 < 0.8 d2 is 2 - 2 c1 < 0.64 (2 - 2 c2).
+  constexpr float kRatio2 = 0.8f * 0.8f;
+  int score = 0;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    float best = -2.0f, second = -2.0f;
+    Eigen::Index arg = 0;
+    for (Eigen::Index j = 0; j < m; ++j) {
+      const float c = cosine(i, j);
+      if (c > best) {
+        second = best;
+        best = c;
+        arg = j;
+      } else if (c > second) {
+        second = c;
+      }
+    }
+    if (best_source[static_cast<size_t>(arg)] == i &&
+        2.0f - 2.0f * best < kRatio2 * (2.0f - 2.0f * second)) {
+      ++score;
+    }
+  }
+  return score;
+}
+
+std::vector<std::pair<int, int>> ChooseViewPairs(const std::vector<LiftedFeatures>& source,
+                                                 const std::vector<LiftedFeatures>& target,
+                                                 const WholeImageViewPairs& choice, int threads) {
   std::vector<std::pair<int, int>> view_pairs;
   for (size_t vs = 0; vs < source.size(); ++vs) {
     for (size_t vt = 0; vt < target.size(); ++vt) {
-      if (all_view_pairs || vs == vt) view_pairs.emplace_back(vs, vt);
+      if (choice.all || vs == vt) view_pairs.emplace_back(vs, vt);
     }
   }
+  const size_t max_pairs = choice.max_pairs == WholeImageViewPairs::kAsManyAsViews
+                               ? std::max(source.size(), target.size())
+                               : static_cast<size_t>(std::max(0, choice.max_pairs));
+  if (max_pairs == 0 || view_pairs.size() <= max_pairs) return view_pairs;
+  std::vector<int> score(view_pairs.size());
+  ParallelFor(
+      view_pairs.size(), threads,
+      [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+          score[k] = ViewOverlapScore(source[static_cast<size_t>(view_pairs[k].first)],
+                                      target[static_cast<size_t>(view_pairs[k].second)]);
+        }
+      },
+      /*min_per_thread=*/1);
+  std::vector<size_t> order(view_pairs.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t x, size_t y) { return score[x] > score[y]; });
+  order.resize(max_pairs);
+  std::sort(order.begin(), order.end());  // back to source-major order
+  std::vector<std::pair<int, int>> chosen;
+  for (size_t k : order) chosen.push_back(view_pairs[k]);
+  return chosen;
+}
+
+void MatchWholeImages(const std::vector<LiftedFeatures>& source,
+                      const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
+                      const WholeImageViewPairs& choice, int threads,
+                      std::vector<Correspondence>* out) {
+  const std::vector<std::pair<int, int>> view_pairs =
+      ChooseViewPairs(source, target, choice, threads);
   // A fragment pair has 9 view pairs of a few thousand keypoints each: one Sinkhorn per pair is
   // most of its matching time (issue 13), so the pairs are shared among the threads. A frame pair
   // has one, and its matcher gets the threads instead.

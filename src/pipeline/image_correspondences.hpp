@@ -21,12 +21,37 @@ LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const Vi
 // Usable keypoints over all the views (what the result reports as keypoints_source/target).
 int CountKeypoints(const std::vector<LiftedFeatures>& views);
 
-// Matches the views' features over the whole images and appends the 3D correspondences: view i
-// with view i, or (all_view_pairs) every source view with every target view, in that order. The
-// view pairs are matched on up to `threads` threads (each pair is independent and its matches
-// are appended in the same order, so the result does not depend on the thread count).
+// Which view pairs whole-image matching uses (MethodConfig::whole_image_all_view_pairs and
+// whole_image_max_view_pairs document them).
+struct WholeImageViewPairs {
+  static constexpr int kAsManyAsViews = -1;
+  bool all = true;  // every source view with every target view; false: view i with view i
+  // > 0: of those, only the `max_pairs` with the highest ViewOverlapScore; kAsManyAsViews: as
+  // many as the scan with more views has views; 0: all of them.
+  int max_pairs = 0;
+};
+
+// How much two views look like the same place, cheaply: mutual nearest neighbours among the
+// strongest kOverlapScoreKeypoints keypoints of each view that pass Lowe's ratio test (best
+// descriptor distance below 0.8 of the second best, Lowe, IJCV 2004). Views that share no
+// surface get few (distinctive matches are rare by chance); a shared surface gives many.
+constexpr int kOverlapScoreKeypoints = 1024;
+int ViewOverlapScore(const LiftedFeatures& a, const LiftedFeatures& b);
+
+// The (source view, target view) pairs to match, in source-major order: all pairs or view i with
+// view i; when more than choice.max_pairs, the best max_pairs by ViewOverlapScore (ties to the
+// earlier pair). Scored on up to `threads` threads; the choice does not depend on their number.
+std::vector<std::pair<int, int>> ChooseViewPairs(const std::vector<LiftedFeatures>& source,
+                                                 const std::vector<LiftedFeatures>& target,
+                                                 const WholeImageViewPairs& choice, int threads);
+
+// Matches the views' features over the whole images and appends the 3D correspondences of the
+// view pairs ChooseViewPairs picks, in that order. The view pairs are matched on up to `threads`
+// threads (each pair is independent and its matches are appended in the same order, so the
+// result does not depend on the thread count).
 void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
-                      bool all_view_pairs, int threads, std::vector<Correspondence>* out);
+                      const WholeImageViewPairs& view_pairs, int threads,
+                      std::vector<Correspondence>* out);
 
 }  // namespace zeroreg

@@ -10,11 +10,12 @@ namespace zeroreg {
 class ImageCorrespondenceSource : public CorrespondenceSource {
  public:
   ImageCorrespondenceSource(const FeatureExtractor& extractor, const DescriptorMatcher& matcher,
-                            const LiftConfig& lift, bool all_view_pairs, int threads)
+                            const LiftConfig& lift, const WholeImageViewPairs& view_pairs,
+                            int threads)
       : extractor_(extractor),
         matcher_(matcher),
         lift_(lift),
-        all_view_pairs_(all_view_pairs),
+        view_pairs_(view_pairs),
         threads_(threads) {}
   std::string name() const override { return "image"; }
   PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const override;
@@ -26,7 +27,7 @@ class ImageCorrespondenceSource : public CorrespondenceSource {
   const FeatureExtractor& extractor_;
   const DescriptorMatcher& matcher_;
   LiftConfig lift_;
-  bool all_view_pairs_;
+  WholeImageViewPairs view_pairs_;
   int threads_;  // PipelineConfig::threads
 };
 

@@ -211,6 +211,7 @@ void Visit(V& v, MethodConfig& c) {
   v("min_object_matches", c.min_object_matches, AtLeast(0));
   v("min_object_correspondences", c.min_object_correspondences, AtLeast(0));
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
+  v("whole_image_max_view_pairs", c.whole_image_max_view_pairs, AtLeast(-1));
   v("object_all_view_pairs", c.object_all_view_pairs);
 }
 template <typename V>

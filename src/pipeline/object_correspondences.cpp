@@ -273,12 +273,13 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   timer.Mark("point_match");
 
   const DescriptorMatcher& matcher = matcher_;
-  const bool all_view_pairs = config_.method.whole_image_all_view_pairs;
+  const WholeImageViewPairs view_pairs{config_.method.whole_image_all_view_pairs,
+                                       config_.method.whole_image_max_view_pairs};
   const int threads = config_.threads;
-  result.whole_image_fallback = [perceived_s, perceived_t, &matcher, all_view_pairs, threads]() {
+  result.whole_image_fallback = [perceived_s, perceived_t, &matcher, view_pairs, threads]() {
     std::vector<Correspondence> all;
-    MatchWholeImages(perceived_s->view_features, perceived_t->view_features, matcher,
-                     all_view_pairs, threads, &all);
+    MatchWholeImages(perceived_s->view_features, perceived_t->view_features, matcher, view_pairs,
+                     threads, &all);
     return all;
   };
   // Too little from the objects to even try: go to the whole images straight away.

@@ -445,7 +445,9 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   if (!config.method.object_level) {
     load_features();
     m.correspondence_source = std::make_unique<ImageCorrespondenceSource>(
-        *m.extractor, *m.matcher, config.lift, config.method.whole_image_all_view_pairs,
+        *m.extractor, *m.matcher, config.lift,
+        WholeImageViewPairs{config.method.whole_image_all_view_pairs,
+                            config.method.whole_image_max_view_pairs},
         config.threads);
     return;
   }
