@@ -1,6 +1,5 @@
 #include "estimate/icp.hpp"
 
-#include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
 
 #include <Eigen/Cholesky>
@@ -12,6 +11,7 @@
 #include <stdexcept>
 
 #include "estimate/lift.hpp"
+#include "estimate/normals.hpp"
 #include "estimate/point_kd_tree.hpp"
 #include "parallel/parallel_for.hpp"
 
@@ -38,9 +38,8 @@ struct IcpGeometry::Level {
   const PointKdTree& MakeTargetReady() const {
     std::call_once(target_once, [this] {
       if (cloud.points_.size() < 6) return;
-      // Each normal depends only on its neighbourhood, so Open3D's parallel estimation is still
-      // deterministic.
-      cloud.EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(3 * voxel_m, 30));
+      // Open3D's rule (the 30 closest within 3 voxels), found in a grid instead of a k-d tree.
+      cloud.normals_ = EstimateNormals(cloud.points_, 3 * voxel_m, 30);
       tree = std::make_unique<PointKdTree>(cloud.points_);
     });
     return *tree;
