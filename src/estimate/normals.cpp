@@ -49,6 +49,9 @@ std::vector<Eigen::Vector3d> EstimateNormals(const std::vector<Eigen::Vector3d>&
     }
   }
   cell_begin.push_back(n);
+  // The points in cell order, so that a cell's points are read from consecutive memory.
+  std::vector<Eigen::Vector3d> sorted(n);
+  for (size_t i = 0; i < n; ++i) sorted[i] = points[order[i]];
 
   const double radius_sq = radius * radius;
   std::vector<std::pair<double, int>> candidates;  // (squared distance, index)
@@ -70,21 +73,23 @@ std::vector<Eigen::Vector3d> EstimateNormals(const std::vector<Eigen::Vector3d>&
     }
     for (size_t q = cell_begin[cell]; q < cell_begin[cell + 1]; ++q) {
       const int query = order[q];
-      const Eigen::Vector3d& p = points[query];
+      const Eigen::Vector3d& p = sorted[q];
       candidates.clear();
       for (const auto& [begin, end] : around) {
         for (size_t j = begin; j < end; ++j) {
-          const int other = order[j];
-          const double d2 = (points[other] - p).squaredNorm();
-          if (d2 <= radius_sq) candidates.emplace_back(d2, other);
+          const double d2 = (sorted[j] - p).squaredNorm();
+          if (d2 <= radius_sq) candidates.emplace_back(d2, order[j]);
         }
       }
       // The closest max_neighbours, ranked by (distance, index): a total order, so the chosen set
-      // does not depend on the order the cells were visited in.
+      // does not depend on the order the cells were visited in. On a surface thinned to voxels
+      // most points have fewer candidates than that (~28 within 3 voxels), and all are kept.
       const size_t keep = std::min(candidates.size(), static_cast<size_t>(max_neighbours));
       if (keep < 3) continue;
-      std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(keep),
-                        candidates.end());
+      if (keep < candidates.size()) {
+        std::nth_element(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(keep),
+                         candidates.end());
+      }
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (size_t k = 0; k < keep; ++k) mean += points[candidates[k].second];
       mean /= static_cast<double>(keep);

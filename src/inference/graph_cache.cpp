@@ -7,11 +7,11 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <sstream>
 #include <system_error>
 
 #include "assets/sha256.hpp"
+#include "io/file_bytes.hpp"
 #include "zeroreg/assets.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -112,10 +112,10 @@ std::optional<std::vector<char>> ReadValidGraph(const GraphCacheEntry& entry) {
   if (expected.size() != 64) return std::nullopt;
   std::ifstream in(entry.graph_path, std::ios::binary);
   if (!in) return std::nullopt;
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) return std::nullopt;
+  std::optional<std::vector<char>> bytes = ReadAllBytes<char>(in);
+  if (!bytes) return std::nullopt;
   detail::Sha256 hash;
-  hash.Update(bytes.data(), bytes.size());
+  hash.Update(bytes->data(), bytes->size());
   if (hash.HexDigest() != expected) return std::nullopt;
   return bytes;
 }

@@ -1,8 +1,8 @@
 #include "io/image_file.hpp"
 
 #include <fstream>
-#include <iterator>
 
+#include "io/file_bytes.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
@@ -106,8 +106,9 @@ cv::Mat ReadImageFile(const std::string& path, const std::string& what, ImageMod
   RequireFile(path, what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MakeInputError(path, what + " cannot be opened for reading");
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                        std::istreambuf_iterator<char>());
+  const std::optional<std::vector<std::uint8_t>> read = ReadAllBytes<std::uint8_t>(in);
+  if (!read) throw MakeInputError(path, what + " cannot be read");
+  const std::vector<std::uint8_t>& bytes = *read;
   const ImageHeader header = InspectImageHeader(bytes);
   const std::uint64_t limit = MaxImagePixels();
   if (header.known && header.width * header.height > limit) {
