@@ -230,10 +230,12 @@ int RunMatch(const MatchOptions& o) {
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
 
   // The method first: a bad config or missing model is reported before minutes of fusion.
-  const MethodFactory factory =
-      o.fuse_only ? MethodFactory()
-                  : MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
-                                      method.features, o.common.cache);
+  PreparedCacheOptions cache = o.common.cache;
+  cache.target_refs = TargetRefs(mine);
+  const MethodFactory factory = o.fuse_only
+                                    ? MethodFactory()
+                                    : MakeMethodFactory(o.common.method, method.pipeline,
+                                                        method.fpfh, method.features, cache);
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
 
   // Lazy fusion: only the fragments of this shard's pairs that are not finished yet.
@@ -296,8 +298,10 @@ int RunFramePairs(const FramePairOptions& o) {
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
-  const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
-                                                  method.features, o.common.cache);
+  PreparedCacheOptions cache = o.common.cache;
+  cache.target_refs = TargetRefs(mine);
+  const MethodFactory factory =
+      MakeMethodFactory(o.common.method, method.pipeline, method.fpfh, method.features, cache);
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
   return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
 }

@@ -69,7 +69,10 @@ class Pipeline {
 
   // Everything of the pipeline that depends on `scan` alone. Throws InputError as Register does.
   // Thread-safe: several threads may prepare and register with one Pipeline at once.
-  PreparedScan Prepare(const Scan& scan) const;
+  // as_target = false is for a scan that will only be a source: what only a target needs (ICP's
+  // normals and k-d tree) is then not made now but the first time the scan is a target, once,
+  // so it may still be one. Registrations are the same bit for bit either way.
+  PreparedScan Prepare(const Scan& scan, bool as_target = true) const;
   // The same result, bit for bit, as Register(source.scan(), target.scan()), without redoing the
   // per-scan work; the timings hold only the per-pair stages. Throws InputError for an empty
   // prepared scan or one made by another Pipeline.

@@ -664,10 +664,10 @@ RegistrationResult RegisterWith(const Pipeline& pipeline, const py::handle& sour
   return pipeline.Register(s, t);
 }
 
-PreparedScan PrepareWith(const Pipeline& pipeline, const py::handle& scan) {
+PreparedScan PrepareWith(const Pipeline& pipeline, const py::handle& scan, bool as_target) {
   const Scan s = ScanFromPython(scan, "scan");
   py::gil_scoped_release release;
-  return pipeline.Prepare(s);
+  return pipeline.Prepare(s, as_target);
 }
 
 void BindResult(py::module_& m) {
@@ -860,9 +860,11 @@ PYBIND11_MODULE(_zeroreg, m) {
       .def("register", &RegisterWith, py::arg("source"), py::arg("target"),
            "Registers source into target; either may be a PreparedScan from prepare() (the "
            "result is the same, bit for bit, as for the scans themselves).")
-      .def("prepare", &PrepareWith, py::arg("scan"),
+      .def("prepare", &PrepareWith, py::arg("scan"), py::arg("as_target") = true,
            "Everything that depends on one scan alone, done once: pass the PreparedScan to "
-           "register() as often as needed.")
+           "register() as often as needed. as_target=False for a scan that will only be a "
+           "source: ICP's target geometry is then made the first time it is a target, if ever "
+           "(same results).")
       .def_property_readonly("config",
                              [](const Pipeline& p) { return FromJson(ConfigToJson(p.config())); });
 

@@ -52,6 +52,14 @@ def test_a_prepared_scan_is_reused_across_pairs_and_threads(pipeline):
     assert zeroreg.translation_error_m(as_source.T_target_source, gt(20, 0)) < 0.10
 
 
+def test_a_scan_prepared_as_source_only_can_still_be_a_target(pipeline, result_20_0_from_paths):
+    a = pipeline.prepare(frame_spec(20), as_target=False)
+    b = pipeline.prepare(frame_spec(0), as_target=False)
+    r = pipeline.register(a, b)
+    np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
+    assert r.valid == result_20_0_from_paths.valid
+
+
 def test_prepared_scan_of_another_pipeline_is_refused(pipeline):
     other = zeroreg.Pipeline()
     a = other.prepare(frame_spec(20))

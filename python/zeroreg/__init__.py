@@ -159,11 +159,13 @@ class Pipeline:
         """
         return self._impl.register(_native(source, "source"), _native(target, "target"))
 
-    def prepare(self, scan: ScanLike) -> PreparedScan:
+    def prepare(self, scan: ScanLike, as_target: bool = True) -> PreparedScan:
         """Everything of the pipeline that depends on one scan alone (features, detections, masks,
         objects, the clouds of verification and ICP), done once. Pass the result to register() as
-        often as needed, with this Pipeline only; it is immutable and may be shared by threads."""
-        return self._impl.prepare(_native(scan, "scan"))
+        often as needed, with this Pipeline only; it is immutable and may be shared by threads.
+        as_target=False for a scan that will only be a source: ICP's target geometry (normals,
+        k-d tree) is then made the first time it is a target, if ever; results are the same."""
+        return self._impl.prepare(_native(scan, "scan"), bool(as_target))
 
 
 def register(

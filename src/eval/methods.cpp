@@ -33,10 +33,18 @@ namespace reg = open3d::pipelines::registration;
 // by the instances of every runner thread.
 struct SharedPipeline {
   SharedPipeline(const PipelineConfig& config, const PreparedCacheOptions& cache)
-      : pipeline(config), prepared(cache.max_scans, cache.max_bytes), cached(cache.max_scans > 0) {}
+      : pipeline(config),
+        prepared(cache.max_scans, cache.max_bytes),
+        cached(cache.max_scans > 0),
+        target_refs(cache.target_refs) {}
+  // Whether the scan `ref` is ever a target (true when that is not known).
+  bool MayBeTarget(const std::string& ref) const {
+    return target_refs.empty() || target_refs.count(ref) > 0;
+  }
   Pipeline pipeline;
   PreparedScanCache prepared;
   bool cached;
+  std::set<std::string> target_refs;
 };
 
 class ZeroregMethod : public PairMethod {
@@ -53,7 +61,8 @@ class ZeroregMethod : public PairMethod {
                        const ScanLoadFunction& load) override {
     if (!shared_->cached) return Run(load(source_ref), load(target_ref));
     const auto prepared = [&](const std::string& ref) {
-      return shared_->prepared.Get(ref, [&] { return shared_->pipeline.Prepare(load(ref)); });
+      return shared_->prepared.Get(
+          ref, [&] { return shared_->pipeline.Prepare(load(ref), shared_->MayBeTarget(ref)); });
     };
     // Both scans at once when they are both new (as Register(scan, scan) would); a cached one
     // returns at once.
@@ -390,6 +399,12 @@ void CheckMethodName(const std::string& method) {
     throw MakeInputError("--method " + method,
                          "unknown method; expected zeroreg, image, fpfh, sift or orb");
   }
+}
+
+std::set<std::string> TargetRefs(const std::vector<PairTask>& tasks) {
+  std::set<std::string> refs;
+  for (const PairTask& task : tasks) refs.insert(task.target_ref);
+  return refs;
 }
 
 MethodFactory MakeMethodFactory(const std::string& method, const PipelineConfig& config,

@@ -17,6 +17,7 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -45,7 +46,15 @@ class PairMethod {
 struct PreparedCacheOptions {
   std::size_t max_scans = 32;         // PreparedScanCache::kDefaultMaxScans
   std::size_t max_bytes = 512 << 20;  // PreparedScanCache::kDefaultMaxBytes
+  // The scan references that are a target in some pair of the run, when the caller knows them
+  // (TargetRefs): a scan outside it is prepared as a source only (Pipeline::Prepare(scan,
+  // false)), which spares ICP's normals and k-d tree of scans that are never a target. Empty =
+  // unknown: every scan is prepared for both roles.
+  std::set<std::string> target_refs;
 };
+
+// The target_ref of every task.
+std::set<std::string> TargetRefs(const std::vector<PairTask>& tasks);
 
 // Open3D 0.16 global registration baseline, settings of the 3DMatch literature (voxel 5 cm).
 struct FpfhConfig {

@@ -565,10 +565,10 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   return result;
 }
 
-PreparedScan Pipeline::Prepare(const Scan& scan) const {
+PreparedScan Pipeline::Prepare(const Scan& scan, bool as_target) const {
   CheckScan(scan, "prepared");
   PreparedScan out;
-  out.data_ = impl_->PrepareChecked(scan);
+  out.data_ = impl_->PrepareChecked(scan, as_target);
   return out;
 }
 

@@ -106,6 +106,12 @@ TEST_P(PreparedScanTest, RegisterOfPreparedScansIsBitIdenticalToRegisterOfScans)
   other.join();
   ExpectIdentical(direct, again);
   ExpectIdentical(reverse, reverse_prepared);
+
+  // Prepared as sources only: the target's ICP geometry is made when it is first a target.
+  const PreparedScan s_only = pipeline.Prepare(source, /*as_target=*/false);
+  const PreparedScan t_only = pipeline.Prepare(target, /*as_target=*/false);
+  ExpectIdentical(direct, pipeline.Register(s_only, t_only));
+  ExpectIdentical(reverse, pipeline.Register(t_only, s_only));
 }
 
 INSTANTIATE_TEST_SUITE_P(RealFrames, PreparedScanTest,
