@@ -32,13 +32,15 @@ struct FpfhCloud {
 
 FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhParams& params);
 
-// Mutual nearest neighbours in FPFH space: (source index, target index, score) with score = 1 -
-// d1 / d2, Lowe's ratio of the best to the second-best feature distance in the source -> target
-// direction (0 = ambiguous, 1 = distinctive).
+// Mutual nearest neighbours in FPFH space (Euclidean): (source index, target index, score) with
+// score = 1 - d1 / d2, Lowe's ratio of the best to the second-best feature distance in the source
+// -> target direction (0 = ambiguous, 1 = distinctive). Ties go to the lower index; the result
+// is the same for any `threads`.
 struct FeaturePair {
   int source = 0, target = 0;
   float score = 0.0f;
 };
-std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const FpfhCloud& target);
+std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const FpfhCloud& target,
+                                              int threads = 1);
 
 }  // namespace zeroreg

@@ -48,7 +48,7 @@ std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Sc
       ScanPoints(target, h.geometry_pixel_stride, config.lift.min_depth_m, config.lift.max_depth_m),
       params);
   std::vector<Correspondence> out;
-  for (const FeaturePair& m : MutualFeatureMatches(s, t)) {
+  for (const FeaturePair& m : MutualFeatureMatches(s, t, config.threads)) {
     Correspondence c;
     c.source = s.cloud->points_[static_cast<size_t>(m.source)];
     c.target = t.cloud->points_[static_cast<size_t>(m.target)];
