@@ -119,5 +119,27 @@ TEST(Cli, SameCommandTwiceGivesIdenticalResult) {
   fs::remove(b);
 }
 
+TEST(Cli, ErrorsAreReportedInTheSameOrderForAnyThreadCount) {
+  // With threads >= 2 the scans are read at once while the models load; the error reported is
+  // still the first in the serial order: the source's, then the target's, then the models'.
+  const std::string good = "'" + RedkitchenDir() + "@0'";
+  const std::string no_assets =
+      " --set assets_dir='" + (fs::temp_directory_path() / "zeroreg_no_assets").string() + "'";
+  for (const char* threads : {"1", "2"}) {
+    const std::string t = std::string(" --set threads=") + threads + no_assets;
+    const auto both = RunCli("register -s /no/source@1 -t /no/target@2" + t);
+    EXPECT_EQ(both.exit_code, 2) << both.output;
+    EXPECT_NE(both.output.find("/no/source@1"), std::string::npos) << both.output;
+    EXPECT_EQ(both.output.find("/no/target@2"), std::string::npos) << both.output;
+    const auto target = RunCli("register -s " + good + " -t /no/target@2" + t);
+    EXPECT_EQ(target.exit_code, 2) << target.output;
+    EXPECT_NE(target.output.find("/no/target@2"), std::string::npos) << target.output;
+    EXPECT_EQ(target.output.find("zeroreg_no_assets"), std::string::npos) << target.output;
+    const auto models = RunCli("register -s " + good + " -t " + good + t);
+    EXPECT_EQ(models.exit_code, 2) << models.output;
+    EXPECT_NE(models.output.find("zeroreg_no_assets"), std::string::npos) << models.output;
+  }
+}
+
 }  // namespace
 }  // namespace zeroreg
