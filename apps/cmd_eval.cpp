@@ -128,6 +128,14 @@ Method ResolveMethod(const CommonOptions& o) {
 }
 
 // Runs the selected pairs of this shard and writes the summary; shared by both protocols.
+// The prepared-scan cache of this run's pairs: scans that are a target in none of them are
+// prepared as sources only.
+PreparedCacheOptions CacheFor(const CommonOptions& o, const std::vector<PairTask>& mine) {
+  PreparedCacheOptions cache = o.cache;
+  cache.target_refs = TargetRefs(mine);
+  return cache;
+}
+
 int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vector<PairTask>& mine,
                     const MethodFactory& factory, const ScanLoader& loader) {
   RunOptions run;
@@ -230,12 +238,10 @@ int RunMatch(const MatchOptions& o) {
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
 
   // The method first: a bad config or missing model is reported before minutes of fusion.
-  PreparedCacheOptions cache = o.common.cache;
-  cache.target_refs = TargetRefs(mine);
-  const MethodFactory factory = o.fuse_only
-                                    ? MethodFactory()
-                                    : MakeMethodFactory(o.common.method, method.pipeline,
-                                                        method.fpfh, method.features, cache);
+  const MethodFactory factory =
+      o.fuse_only ? MethodFactory()
+                  : MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
+                                      method.features, CacheFor(o.common, mine));
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
 
   // Lazy fusion: only the fragments of this shard's pairs that are not finished yet.
@@ -298,10 +304,8 @@ int RunFramePairs(const FramePairOptions& o) {
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
-  PreparedCacheOptions cache = o.common.cache;
-  cache.target_refs = TargetRefs(mine);
-  const MethodFactory factory =
-      MakeMethodFactory(o.common.method, method.pipeline, method.fpfh, method.features, cache);
+  const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
+                                                  method.features, CacheFor(o.common, mine));
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
   return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
 }
