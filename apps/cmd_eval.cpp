@@ -127,7 +127,6 @@ Method ResolveMethod(const CommonOptions& o) {
   return m;
 }
 
-// Runs the selected pairs of this shard and writes the summary; shared by both protocols.
 // The prepared-scan cache of this run's pairs: scans that are a target in none of them are
 // prepared as sources only.
 PreparedCacheOptions CacheFor(const CommonOptions& o, const std::vector<PairTask>& mine) {
@@ -136,6 +135,7 @@ PreparedCacheOptions CacheFor(const CommonOptions& o, const std::vector<PairTask
   return cache;
 }
 
+// Runs the selected pairs of this shard and writes the summary; shared by both protocols.
 int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vector<PairTask>& mine,
                     const MethodFactory& factory, const ScanLoader& loader) {
   RunOptions run;

@@ -1,7 +1,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <future>
 #include <iostream>
 #include <optional>
 
@@ -10,6 +9,7 @@
 #include "eval/methods.hpp"
 #include "eval/metrics.hpp"
 #include "io/text_parsing.hpp"
+#include "parallel/run_both.hpp"
 #include "viz/pictures.hpp"
 #include "viz/ply.hpp"
 #include "zeroreg/error.hpp"
@@ -90,53 +90,40 @@ Runner AddRegisterCommand(CLI::App& app) {
     };
     // With threads >= 2 the models load while the scans are read, and the two scans are read at
     // once (a fragment is a cloud and six PNGs: ~190 ms one after the other). Errors are reported
-    // in the serial order whatever the thread count: the source's, the target's, the models'.
+    // in the serial order whatever the thread count: the source's, the target's, --gt's, the
+    // models'.
     const bool overlap = config.threads >= 2;
+    const auto ms_since = [](std::chrono::steady_clock::time_point start) {
+      return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+          .count();
+    };
+    Scan source, target;
+    std::optional<Transform> T_gt;
+    double read_ms = 0, models_ms = 0;
     std::optional<Pipeline> pipeline;
-    double models_ms = 0;
+    const auto read_inputs = [&] {
+      const auto start = std::chrono::steady_clock::now();
+      RunBoth(
+          overlap, [&] { source = LoadScan(o->source, dataset_options); },
+          [&] { target = LoadScan(o->target, dataset_options); });
+      read_ms = ms_since(start);
+      if (!o->gt.empty()) {
+        T_gt = ReadPoseFile(o->gt);
+      } else if (source.T_world_scan_gt && target.T_world_scan_gt) {
+        T_gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
+      }
+    };
     const auto load_models = [&] {
       const auto start = std::chrono::steady_clock::now();
       pipeline.emplace(config);
-      models_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-              .count();
+      models_ms = ms_since(start);
     };
-    std::future<void> models;
-    if (overlap && o->baseline.empty()) models = std::async(std::launch::async, load_models);
-    Scan source, target;
-    try {
-      std::future<Scan> pending_source;
-      if (overlap) {
-        pending_source =
-            std::async(std::launch::async, [&] { return LoadScan(o->source, dataset_options); });
-      } else {
-        source = LoadScan(o->source, dataset_options);
-      }
-      std::exception_ptr target_error;
-      try {
-        target = LoadScan(o->target, dataset_options);
-      } catch (...) {
-        target_error = std::current_exception();
-      }
-      if (pending_source.valid()) source = pending_source.get();
-      if (target_error) std::rethrow_exception(target_error);
-    } catch (...) {
-      if (models.valid()) {
-        try {
-          models.get();
-        } catch (...) {  // the scan's error is the one reported
-        }
-      }
-      throw;
+    if (o->baseline.empty()) {
+      RunBoth(overlap, read_inputs, load_models);
+    } else {
+      read_inputs();
     }
-    const double read_ms = lap();
-    std::optional<Transform> T_gt;
-    if (!o->gt.empty()) {
-      T_gt = ReadPoseFile(o->gt);
-    } else if (source.T_world_scan_gt && target.T_world_scan_gt) {
-      T_gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
-    }
-
+    lap();
     if (!o->baseline.empty()) {
       FeatureBaselineConfig baseline;
       baseline.detector = o->baseline;
@@ -171,12 +158,6 @@ Runner AddRegisterCommand(CLI::App& app) {
       return r.valid ? kExitOk : kExitRegistrationFailed;
     }
 
-    if (models.valid()) {
-      models.get();
-    } else {
-      load_models();
-    }
-    lap();
     RegistrationResult result = pipeline->Register(source, target);
     lap();
     // The process's own stages go first in timings_ms; "total" stays the registration's.

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "parallel/parallel_for.hpp"
 
@@ -27,11 +28,22 @@ FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhPara
 
 namespace {
 
-// The two closest target features of one source feature, by squared distance.
+// The two closest target features of one source feature, by squared distance; offered in index
+// order, ties keep the earlier.
 struct ClosestTwo {
   double d1 = std::numeric_limits<double>::infinity();
   double d2 = std::numeric_limits<double>::infinity();
   int t1 = -1;
+
+  void Offer(double d, int t) {
+    if (d < d1) {
+      d2 = d1;
+      d1 = d;
+      t1 = t;
+    } else if (d < d2) {
+      d2 = d;
+    }
+  }
 };
 
 // The closest source feature of one target feature.
@@ -85,7 +97,7 @@ std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const Fpf
       static_cast<size_t>(blocks), threads,
       [&](size_t begin, size_t end) {
         Eigen::MatrixXd d2;
-        Eigen::VectorXd row_first, row_second;
+        std::vector<ClosestTwo> row_screen;
         Eigen::RowVectorXd column_first;
         for (size_t b = begin; b < end; ++b) {
           const Eigen::Index first = static_cast<Eigen::Index>(b) * kSourceBlock;
@@ -95,18 +107,11 @@ std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const Fpf
           d2.colwise() += s_norm.segment(first, rows);
           d2.rowwise() += t_norm;
           // The screen: each row's two smallest and each column's smallest approximate values.
-          row_first.setConstant(rows, std::numeric_limits<double>::infinity());
-          row_second = row_first;
+          row_screen.assign(static_cast<size_t>(rows), ClosestTwo{});
           column_first = d2.colwise().minCoeff();
           for (Eigen::Index c = 0; c < nt; ++c) {
             for (Eigen::Index r = 0; r < rows; ++r) {
-              const double d = d2(r, c);
-              if (d < row_first[r]) {
-                row_second[r] = row_first[r];
-                row_first[r] = d;
-              } else if (d < row_second[r]) {
-                row_second[r] = d;
-              }
+              row_screen[static_cast<size_t>(r)].Offer(d2(r, c), static_cast<int>(c));
             }
           }
           std::vector<Closest>& back = backward[b];
@@ -114,18 +119,12 @@ std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const Fpf
           for (Eigen::Index c = 0; c < nt; ++c) {
             for (Eigen::Index r = 0; r < rows; ++r) {
               const double approx = d2(r, c);
-              if (approx > row_second[r] + 2 * slack && approx > column_first[c] + 2 * slack) {
+              if (approx > row_screen[static_cast<size_t>(r)].d2 + 2 * slack &&
+                  approx > column_first[c] + 2 * slack) {
                 continue;  // exactly farther than the row's best two and the column's best
               }
               const double d = SquaredDistance(S, first + r, T, c);
-              ClosestTwo& f = forward[static_cast<size_t>(first + r)];
-              if (d < f.d1) {
-                f.d2 = f.d1;
-                f.d1 = d;
-                f.t1 = static_cast<int>(c);
-              } else if (d < f.d2) {
-                f.d2 = d;
-              }
+              forward[static_cast<size_t>(first + r)].Offer(d, static_cast<int>(c));
               Closest& k = back[static_cast<size_t>(c)];
               if (d < k.d) k = Closest{d, static_cast<int>(first + r)};
             }

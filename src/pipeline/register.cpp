@@ -16,6 +16,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
+#include "parallel/run_both.hpp"
 #include "pipeline/hypotheses.hpp"
 #include "pipeline/image_source.hpp"
 #include "pipeline/object_correspondences.hpp"
@@ -347,26 +348,6 @@ std::size_t PreparedBytes(const Prepared& p) {
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
-}
-
-// Runs `a` on a new thread and `b` on this one when `parallel`, else `a` then `b`. An exception of
-// `a` is rethrown first either way, so the error reported does not depend on the thread count.
-template <typename A, typename B>
-void RunBoth(bool parallel, const A& a, const B& b) {
-  if (!parallel) {
-    a();
-    b();
-    return;
-  }
-  std::future<void> pending = std::async(std::launch::async, a);
-  std::exception_ptr b_error;
-  try {
-    b();
-  } catch (...) {
-    b_error = std::current_exception();
-  }
-  pending.get();
-  if (b_error) std::rethrow_exception(b_error);
 }
 
 std::atomic<std::uint64_t> g_next_pipeline_id{1};

@@ -121,7 +121,7 @@ TEST(Cli, SameCommandTwiceGivesIdenticalResult) {
 
 TEST(Cli, ErrorsAreReportedInTheSameOrderForAnyThreadCount) {
   // With threads >= 2 the scans are read at once while the models load; the error reported is
-  // still the first in the serial order: the source's, then the target's, then the models'.
+  // still the first in the serial order: the source's, the target's, --gt's, then the models'.
   const std::string good = "'" + RedkitchenDir() + "@0'";
   const std::string no_assets =
       " --set assets_dir='" + (fs::temp_directory_path() / "zeroreg_no_assets").string() + "'";
@@ -135,6 +135,10 @@ TEST(Cli, ErrorsAreReportedInTheSameOrderForAnyThreadCount) {
     EXPECT_EQ(target.exit_code, 2) << target.output;
     EXPECT_NE(target.output.find("/no/target@2"), std::string::npos) << target.output;
     EXPECT_EQ(target.output.find("zeroreg_no_assets"), std::string::npos) << target.output;
+    const auto gt = RunCli("register -s " + good + " -t " + good + " --gt /no/gt.txt" + t);
+    EXPECT_EQ(gt.exit_code, 2) << gt.output;
+    EXPECT_NE(gt.output.find("/no/gt.txt"), std::string::npos) << gt.output;
+    EXPECT_EQ(gt.output.find("zeroreg_no_assets"), std::string::npos) << gt.output;
     const auto models = RunCli("register -s " + good + " -t " + good + t);
     EXPECT_EQ(models.exit_code, 2) << models.output;
     EXPECT_NE(models.output.find("zeroreg_no_assets"), std::string::npos) << models.output;
