@@ -8,10 +8,15 @@
 # C = 2 - lambda (1 - BC), so BC = 1 - (2 - C) / lambda is read back from the result's C.
 #
 #   bash scripts/bench-appearance-separation.sh [OUT=results/appearance-separation]
+#
+# EXTRA: further register options, e.g. EXTRA="--set segmenter.backend=sam" for the SAM embedding
+# descriptor (objects.appearance = auto); its cosine is in [-1, 1], so "BC" below reads as that
+# cosine. Use a separate OUT per EXTRA (finished pairs are kept).
 set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
 out="${1:-results/appearance-separation}"
+read -ra extra <<<"${EXTRA:-}"
 bin="${ZEROREG_BIN:-build/zeroreg}"
 mkdir -p "$out"
 for list in redkitchen-gap20 redkitchen-gap60 redkitchen-cross hololens-gap1 hololens-gap5 hololens-cross; do
@@ -22,7 +27,8 @@ for list in redkitchen-gap20 redkitchen-gap60 redkitchen-cross hololens-gap1 hol
       [[ -s "$f" ]] && continue  # resumable
       "$bin" register --source "../shared/data/$data@$j" --target "../shared/data/$data@$i" \
         --set detector.backend=ensemble --set object_match.appearance_weight=0.001 \
-        --set method.point_level=false --set refine.enabled=false --out "$f" >/dev/null 2>&1 ||
+        --set method.point_level=false --set refine.enabled=false "${extra[@]}" --out "$f" \
+        >/dev/null 2>&1 ||
         echo "bench-appearance-separation: $list $i $j failed" >&2
     done
 done
@@ -48,7 +54,7 @@ def q(v):
 for name, rs in sorted(rows.items()) + [("all", everything)]:
     print(f"{name}: correct {q([b for ok, b in rs if ok])} | wrong {q([b for ok, b in rs if not ok])}")
 good = sum(ok for ok, _ in everything)
-for t in (0.3, 0.5, 0.6, 0.7, 0.8):
+for t in (-0.2, 0.0, 0.2, 0.3, 0.5, 0.6, 0.7, 0.8):
     kg = sum(1 for ok, b in everything if ok and b >= t)
     kw = sum(1 for ok, b in everything if not ok and b >= t)
     print(f"BC >= {t}: keeps {kg}/{good} correct, {kw}/{len(everything) - good} wrong")

@@ -387,6 +387,11 @@ struct ObjectsConfig {
   // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask; issue 11.
   // 0 = detections only (the paper's flow).
   int proposals_below = 0;
+  // Which image appearance descriptor each object gets (src/objects/appearance.hpp, issue 11):
+  // "auto" = the SAM image embedding pooled over the mask when the segmenter computes one
+  // (segmenter.backend = sam), the colour histogram otherwise; "colour" = always the colour
+  // histogram; "sam-embedding" = always the embedding (needs segmenter.backend = sam).
+  std::string appearance = "auto";
 };
 
 // Which parts of the method run. The paper's Table 4 ablation rows are switches here.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
+#include "segment/segmenter.hpp"
+
 namespace zeroreg {
 namespace {
 
@@ -51,6 +53,68 @@ Appearance ColourAppearance(const cv::Mat& bgr, const cv::Mat& mask) {
   for (size_t i = 0; i < counts.size(); ++i) {
     out.values[i] = static_cast<float>(std::sqrt(counts[i] / total));
   }
+  return out;
+}
+
+EmbeddingPooler::EmbeddingPooler(const ImageEmbedding& embedding, cv::Size image_size)
+    : embedding_(embedding), image_size_(image_size) {
+  if (embedding_.empty() || image_size_.area() == 0) return;
+  view_mean_ = WeightedMean(CellWeights(cv::Mat(image_size_, CV_8UC1, cv::Scalar(255))));
+}
+
+std::vector<double> EmbeddingPooler::CellWeights(const cv::Mat& mask) const {
+  std::vector<double> weights(static_cast<size_t>(embedding_.rows) * embedding_.cols, 0.0);
+  const cv::Rect roi = cv::boundingRect(mask);
+  const double per_cell = embedding_.pixels_per_cell;
+  for (int y = roi.y; y < roi.y + roi.height; ++y) {
+    const uchar* m = mask.ptr<uchar>(y);
+    const int row = std::min(embedding_.rows - 1, static_cast<int>((y + 0.5) / per_cell));
+    for (int x = roi.x; x < roi.x + roi.width; ++x) {
+      if (m[x] == 0) continue;
+      const int col = std::min(embedding_.cols - 1, static_cast<int>((x + 0.5) / per_cell));
+      weights[static_cast<size_t>(row) * embedding_.cols + col] += 1.0;
+    }
+  }
+  return weights;
+}
+
+std::vector<double> EmbeddingPooler::WeightedMean(const std::vector<double>& cell_weights) const {
+  const size_t cells = cell_weights.size();
+  std::vector<size_t> used;
+  double total = 0.0;
+  for (size_t cell = 0; cell < cells; ++cell) {
+    if (cell_weights[cell] == 0.0) continue;
+    used.push_back(cell);
+    total += cell_weights[cell];
+  }
+  if (total == 0.0) return {};
+  // Channel-major layout (channel c of cell k is data[c * cells + k]): one channel at a time
+  // reads each channel's plane in order.
+  std::vector<double> mean(embedding_.channels, 0.0);
+  for (int c = 0; c < embedding_.channels; ++c) {
+    const float* plane = embedding_.data.data() + static_cast<size_t>(c) * cells;
+    double sum = 0.0;
+    for (size_t cell : used) sum += cell_weights[cell] * plane[cell];
+    mean[c] = sum / total;
+  }
+  return mean;
+}
+
+Appearance EmbeddingPooler::Pool(const cv::Mat& mask) const {
+  Appearance out;
+  if (view_mean_.empty() || mask.size() != image_size_ || mask.type() != CV_8UC1) return out;
+  std::vector<double> pooled = WeightedMean(CellWeights(mask));
+  if (pooled.empty()) return out;
+  double norm = 0.0;
+  for (size_t c = 0; c < pooled.size(); ++c) {
+    pooled[c] -= view_mean_[c];
+    norm += pooled[c] * pooled[c];
+  }
+  norm = std::sqrt(norm);
+  if (!(norm > 0.0)) return out;  // the mask covers the whole image: nothing sets it apart
+  out.kind = kSamEmbeddingKind;
+  out.values.resize(pooled.size());
+  for (size_t c = 0; c < pooled.size(); ++c) out.values[c] = static_cast<float>(pooled[c] / norm);
   return out;
 }
 

@@ -181,6 +181,7 @@ void Visit(V& v, ObjectsConfig& c) {
   v("point_voxel_m", c.point_voxel_m, Positive());
   v("association_min_appearance", c.association_min_appearance, Between(-1, 1));
   v("proposals_below", c.proposals_below, AtLeast(0));
+  v("appearance", c.appearance);
 }
 template <typename V>
 void Visit(V& v, SceneGraphConfig& c) {
@@ -393,6 +394,18 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
       throw MakeInputError(
           where, std::string(key) + " is \"" + name + "\"; expected \"ransac\" or \"clique\"");
     }
+  }
+  if (c.objects.appearance != "auto" && c.objects.appearance != "colour" &&
+      c.objects.appearance != "sam-embedding") {
+    throw MakeInputError(where, "objects.appearance is \"" + c.objects.appearance +
+                                    "\"; expected \"auto\", \"colour\" or \"sam-embedding\"");
+  }
+  if (c.objects.appearance == "sam-embedding" && c.segmenter.backend != "sam") {
+    throw MakeInputError(where,
+                         "objects.appearance \"sam-embedding\" needs segmenter.backend "
+                         "\"sam\" (it pools SAM's image embedding), but the segmenter is "
+                         "\"" +
+                             c.segmenter.backend + "\"");
   }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +

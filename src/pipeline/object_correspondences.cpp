@@ -4,6 +4,7 @@
 #include <map>
 #include <memory>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -111,13 +112,14 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
     // Either detections segmented one by one (§3.2), or, without detection, class-agnostic
     // depth regions that come with their masks.
     std::vector<ObjectObservation> found;
+    ViewMasks masks;  // kept for the view's SAM embedding, when the segmenter computes one
     if (config_.method.detection) {
       // The file backends key their files by this name's stem: the image file, when known.
       const std::string& image_name = view.color_file.empty() ? view.name : view.color_file;
       const std::vector<Detection> detections = detector_.Detect(view.color, image_name);
       timer.Mark("detect");
       // One call per view: SAM encodes the image once for all its boxes.
-      ViewMasks masks = segmenter_.SegmentView(view.color, view.depth, detections, image_name);
+      masks = segmenter_.SegmentView(view.color, view.depth, detections, image_name);
       for (size_t d = 0; d < detections.size(); ++d) {
         ObjectObservation o;
         o.detection = detections[d];
@@ -137,11 +139,17 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       }
       timer.Mark("detect");
     }
+    // Issue 11: each object's appearance beside its label; the SAM embedding pooled over the mask
+    // where the segmenter computed one (objects.appearance = auto or sam-embedding).
+    std::optional<EmbeddingPooler> pooler;
+    if (config_.objects.appearance != "colour" && !masks.embedding.empty()) {
+      pooler.emplace(masks.embedding, view.color.size());
+    }
     for (ObjectObservation& o : found) {
       o.view = static_cast<int>(v);
       o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
-      o.appearance = ColourAppearance(view.color, o.mask);  // issue 11: beside the label
+      o.appearance = pooler ? pooler->Pool(o.mask) : ColourAppearance(view.color, o.mask);
       if (embedder_ != nullptr && o.semantic.size() == 0) {
         std::lock_guard<std::mutex> lock(embedder_mutex_);
         if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();

@@ -10,6 +10,7 @@
 
 #include "graph/scene_graph.hpp"
 #include "objects/scene_objects.hpp"
+#include "segment/segmenter.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -129,6 +130,73 @@ TEST(Appearance, AssociationGateKeepsLookalikeObjectsApart) {
   EXPECT_EQ(objects[1].observations, (std::vector<int>{1, 2}));
   EXPECT_NEAR(AppearanceSimilarity(objects[0].appearance, blue), 1.0, 1e-6);
   EXPECT_NEAR(AppearanceSimilarity(objects[1].appearance, red), 1.0, 1e-6);
+}
+
+// A 3-channel embedding on a 4 x 4 grid of 10 px cells under a 40 x 30 image: row 3 of the grid is
+// padding below the image and must not count. Channel 0 = 1 in the left half, channel 1 = 1 in
+// the top row, channel 2 = 2 everywhere (the common component that centring removes).
+ImageEmbedding ToyEmbedding() {
+  ImageEmbedding e;
+  e.channels = 3;
+  e.rows = e.cols = 4;
+  e.pixels_per_cell = 10.0;
+  e.data.assign(3 * 16, 0.0f);
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      const int cell = r * 4 + c;
+      e.data[0 * 16 + cell] = r == 3 ? 1000.0f : (c < 2 ? 1.0f : 0.0f);
+      e.data[1 * 16 + cell] = r == 3 ? 1000.0f : (r == 0 ? 1.0f : 0.0f);
+      e.data[2 * 16 + cell] = r == 3 ? 1000.0f : 2.0f;
+    }
+  }
+  return e;
+}
+
+TEST(Appearance, EmbeddingPooledOverTheMaskMinusTheViewMean) {
+  const ImageEmbedding e = ToyEmbedding();
+  const cv::Size size(40, 30);
+  const EmbeddingPooler pooler(e, size);
+  // View mean over the 12 image cells (100 px each): (0.5, 1/3, 2).
+  cv::Mat top_left = cv::Mat::zeros(size, CV_8UC1);
+  top_left(cv::Rect(0, 0, 10, 10)).setTo(255);  // cell (0, 0): (1, 1, 2) -> centred (0.5, 2/3, 0)
+  const Appearance a = pooler.Pool(top_left);
+  ASSERT_EQ(a.kind, kSamEmbeddingKind);
+  ASSERT_EQ(a.values.size(), 3u);
+  EXPECT_NEAR(a.values[0], 0.6, 1e-6);
+  EXPECT_NEAR(a.values[1], 0.8, 1e-6);
+  EXPECT_NEAR(a.values[2], 0.0, 1e-6);
+
+  cv::Mat bottom_right = cv::Mat::zeros(size, CV_8UC1);  // cell (2, 3): (0, 0, 2)
+  bottom_right(cv::Rect(30, 20, 10, 10)).setTo(255);
+  const Appearance b = pooler.Pool(bottom_right);
+  ASSERT_FALSE(b.empty());
+  const double bn = std::sqrt(0.25 + 1.0 / 9.0);  // centred (-0.5, -1/3, 0)
+  EXPECT_NEAR(b.values[0], -0.5 / bn, 1e-6);
+  EXPECT_NEAR(b.values[1], -1.0 / 3.0 / bn, 1e-6);
+  // The raw pooled vectors (1, 1, 2) and (0, 0, 2) have cosine 0.82; centred they point apart.
+  EXPECT_LT(AppearanceSimilarity(a, b), 0.0);
+
+  // Weights are pixels: 50 px in cell (0, 0) and 50 in cell (1, 3) pool to (0.5, 0.5, 2), centred
+  // (0, 1/6, 0). Pixels are placed by their centres: x = 9 is in column 0, x = 10 in column 1.
+  cv::Mat split = cv::Mat::zeros(size, CV_8UC1);
+  split(cv::Rect(0, 0, 10, 5)).setTo(255);
+  split(cv::Rect(30, 10, 10, 5)).setTo(255);
+  const Appearance m = pooler.Pool(split);
+  ASSERT_FALSE(m.empty());
+  EXPECT_NEAR(m.values[0], 0.0, 1e-6);
+  EXPECT_NEAR(m.values[1], 1.0, 1e-6);
+
+  // Nothing to describe: no pixel, the whole image (equal to the mean), a mask of another size,
+  // or no embedding at all.
+  EXPECT_TRUE(pooler.Pool(cv::Mat::zeros(size, CV_8UC1)).empty());
+  EXPECT_TRUE(pooler.Pool(cv::Mat(size, CV_8UC1, cv::Scalar(255))).empty());
+  EXPECT_TRUE(pooler.Pool(cv::Mat(10, 10, CV_8UC1, cv::Scalar(255))).empty());
+  const ImageEmbedding none;
+  EXPECT_TRUE(EmbeddingPooler(none, size).Pool(top_left).empty());
+  // Different kinds are never compared: a colour descriptor of the same mask is not comparable.
+  const Appearance colour =
+      ColourAppearance(cv::Mat(size, CV_8UC3, cv::Scalar(0, 0, 200)), top_left);
+  EXPECT_FALSE(Comparable(a, colour));
 }
 
 }  // namespace

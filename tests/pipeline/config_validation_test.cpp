@@ -50,6 +50,29 @@ TEST(ConfigValidation, ConfigsBuiltInCodeAreCheckedByThePipeline) {
   EXPECT_NE(t.find("match.sinkhorn.temperature is 0"), std::string::npos) << t;
 }
 
+TEST(ConfigValidation, ObjectAppearanceKindIsChecked) {
+  PipelineConfig c;
+  const std::string unknown = MessageOf([&] {
+    ApplyConfigJson({{"objects", {{"appearance", "clip"}}}}, "f.json", &c);
+  });
+  EXPECT_NE(unknown.find("f.json: objects.appearance is \"clip\"; expected \"auto\", \"colour\" or "
+                         "\"sam-embedding\""),
+            std::string::npos)
+      << unknown;
+  // The SAM embedding exists only when SAM segments.
+  const std::string without_sam = MessageOf([&] {
+    ApplyConfigJson({{"objects", {{"appearance", "sam-embedding"}}}}, "f.json", &c);
+  });
+  EXPECT_NE(without_sam.find("needs segmenter.backend \"sam\""), std::string::npos) << without_sam;
+  EXPECT_NE(without_sam.find("\"depth-grabcut\""), std::string::npos) << without_sam;
+  PipelineConfig ok;
+  EXPECT_NO_THROW(ApplyConfigJson(
+      {{"segmenter", {{"backend", "sam"}}}, {"objects", {{"appearance", "sam-embedding"}}}},
+      "f.json", &ok));
+  EXPECT_EQ(ok.objects.appearance, "sam-embedding");
+  EXPECT_EQ(PipelineConfig().objects.appearance, "auto");
+}
+
 TEST(ConfigValidation, IntegersAreExact) {
   PipelineConfig c;
   for (const char* text : {"4294967297", "true", "2.7", "-1", "\"5\""}) {

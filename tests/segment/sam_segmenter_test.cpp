@@ -16,6 +16,7 @@
 
 #include "detect/perception_test_util.hpp"
 #include "inference/onnx_model.hpp"
+#include "objects/appearance.hpp"
 #include "zeroreg/io.hpp"
 
 namespace zeroreg {
@@ -220,6 +221,66 @@ TEST(SegmenterSam, GraphCacheGivesTheSameMasks) {
   }
   EXPECT_FALSE(std::filesystem::is_empty(cache));
   std::filesystem::remove_all(cache);
+}
+
+// Issue 11: SAM's embedding pooled over an object's final mask (objects.appearance, kind
+// kSamEmbeddingKind) finds the same object in another view. Frames 0 and 40 of redkitchen, YOLOX
+// boxes, SAM masks; "the same object" = same label and centroids within 0.3 m
+// (method.object_centroid_threshold_m) under the ground-truth poses. Each such object of frame 0
+// must be closer in appearance to its partner than to every other object of frame 40, whatever
+// its label.
+TEST(SegmenterSam, EmbeddingAppearanceFindsTheSameObjectInAnotherView) {
+  SKIP_WITHOUT_ORT();
+  struct Object {
+    std::string label;
+    Eigen::Vector3d centroid_world;
+    Appearance appearance;
+  };
+  const auto objects_of = [](int frame_id) {
+    const Frame& f = RedkitchenFrame(frame_id);
+    const Scan scan = LoadScan(std::string(ZEROREG_REPO_DIR) +
+                               "/../shared/data/7scenes-redkitchen@" + std::to_string(frame_id));
+    const View& view = scan.views.at(0);
+    const ViewMasks masks = Sam().SegmentView(f.bgr, f.depth, f.detections, f.name);
+    const EmbeddingPooler pooler(masks.embedding, f.bgr.size());
+    std::vector<Object> out;
+    for (size_t i = 0; i < masks.masks.size(); ++i) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int n = 0;
+      for (int y = 0; y < f.depth.rows; ++y) {
+        for (int x = 0; x < f.depth.cols; ++x) {
+          const float d = f.depth.at<float>(y, x);
+          if (masks.masks[i].at<uchar>(y, x) == 0 || !(d > 0.0f)) continue;
+          sum += Eigen::Vector3d((x - view.intrinsics.cx) * d / view.intrinsics.fx,
+                                 (y - view.intrinsics.cy) * d / view.intrinsics.fy, d);
+          ++n;
+        }
+      }
+      if (n < 20) continue;  // objects.min_points: no usable mask
+      const Eigen::Vector4d c = *view.T_world_camera_gt * (sum / n).homogeneous();
+      out.push_back({f.detections[i].label, c.head<3>(), pooler.Pool(masks.masks[i])});
+      EXPECT_EQ(out.back().appearance.kind, kSamEmbeddingKind);
+    }
+    return out;
+  };
+  const std::vector<Object> a = objects_of(0), b = objects_of(40);
+  int same_objects = 0;
+  for (const Object& p : a) {
+    for (size_t j = 0; j < b.size(); ++j) {
+      if (b[j].label != p.label || (b[j].centroid_world - p.centroid_world).norm() > 0.3) continue;
+      ++same_objects;
+      const double same = AppearanceSimilarity(p.appearance, b[j].appearance);
+      double best_other = -1.0;
+      for (size_t k = 0; k < b.size(); ++k) {
+        if (k != j)
+          best_other = std::max(best_other, AppearanceSimilarity(p.appearance, b[k].appearance));
+      }
+      std::printf("[ sam      ] %-12s same object %.3f, best other object %.3f\n", p.label.c_str(),
+                  same, best_other);
+      EXPECT_GT(same, best_other) << p.label;
+    }
+  }
+  EXPECT_GE(same_objects, 2) << "the frames should share at least two detected objects";
 }
 
 }  // namespace
