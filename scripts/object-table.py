@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Object-level table (issue 11 item 5) from `zeroreg eval pairs` runs.
 
-    /usr/bin/python3 scripts/object-table.py RESULTS [--markdown OUT.md]
+    /usr/bin/python3 scripts/object-table.py RESULTS [RESULTS ...] [--common] [--markdown OUT.md]
 
 Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shared/lists/<list>
 --out RESULTS/<setup>/<list>` run each; scripts/bench-objects.sh makes them) and prints one row per
@@ -14,6 +14,10 @@ Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shar
 - rot@5 / trans@5 / success: RE < 5 deg, TE < 5 cm, and RE < 15 deg with TE < 30 cm;
 - valid-wrong: pairs the method called valid that are not a success;
 - median time per pair (registration only, ms).
+
+Several RESULTS folders are read together (a setup name must appear in one only). --common keeps,
+per list, only the pairs every setup of that list has finished (by the records' "key"), so setups
+run on different subsets or stopped part way are compared on the same pairs.
 
 Standard library only.
 """
@@ -63,21 +67,32 @@ def pct(x):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("results")
+    ap.add_argument("results", nargs="+")
+    ap.add_argument("--common", action="store_true",
+                    help="per list, only the pairs finished in every setup")
     ap.add_argument("--markdown", help="also write the table to this file")
     args = ap.parse_args()
-    table = []
-    for setup in sorted(os.listdir(args.results)):
-        setup_dir = os.path.join(args.results, setup)
-        if not os.path.isdir(setup_dir):
-            continue
-        for lst in sorted(os.listdir(setup_dir)):
-            path = os.path.join(setup_dir, lst, "pairs.jsonl")
-            if not os.path.isfile(path):
+    runs = {}  # (list, setup) -> records
+    for results in args.results:
+        for setup in sorted(os.listdir(results)):
+            setup_dir = os.path.join(results, setup)
+            if not os.path.isdir(setup_dir):
                 continue
-            s = summarise(rows_of(path))
-            if s is not None:
-                table.append((lst, setup, s))
+            for lst in sorted(os.listdir(setup_dir)):
+                path = os.path.join(setup_dir, lst, "pairs.jsonl")
+                if os.path.isfile(path):
+                    runs[(lst, setup)] = [r for r in rows_of(path) if "error" not in r]
+    if args.common:
+        for lst in {k[0] for k in runs}:
+            keys = [{r["key"] for r in recs} for (l, _), recs in runs.items() if l == lst]
+            shared = set.intersection(*keys)
+            for k in [k for k in runs if k[0] == lst]:
+                runs[k] = [r for r in runs[k] if r["key"] in shared]
+    table = []
+    for (lst, setup), records in runs.items():
+        s = summarise(records)
+        if s is not None:
+            table.append((lst, setup, s))
     if not table:
         sys.exit(f"object-table: no RESULTS/<setup>/<list>/pairs.jsonl under {args.results}")
     table.sort(key=lambda t: (t[0], t[1]))
