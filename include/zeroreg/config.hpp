@@ -478,6 +478,15 @@ struct HypothesesConfig {
   // correspondences, and these sources' correspondences are mostly wrong by construction (a
   // HoloLens wall pair was "fixed" by 14 of 1109 FPFH matches, 180 deg off; hololens-cross 48-284).
   bool refuse_degenerate = true;
+  // true: a valid estimate of the object path is also checked against the whole-image one
+  // (estimated, verified and refined as the fallback's would be). If that one is valid too,
+  // disagrees with it (RMS displacement of the two results' correspondence points above
+  // refine.max_distance_coarse_m, ICP's widest gate: neither would refine into the other) and
+  // scores higher, it replaces it (path "image-rival"). Two valid estimates that contradict each
+  // other cannot both be right; agreeing ones keep the method's own. Costs one whole-image
+  // matching per object-path pair. On in configs/paper.json: on hololens-gap5 87 -> 92 the paper
+  // profile's object path was valid but 21.6 deg off (BENCHMARKS.md, "The paper profile").
+  bool image_rival = false;
 };
 
 struct PipelineConfig {

@@ -3,6 +3,7 @@
 #include <open3d/geometry/PointCloud.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <utility>
@@ -29,7 +30,69 @@ PipelineConfig ExtraSourceConfig(const PipelineConfig& config) {
   return e;
 }
 
+// *result becomes `winner`, keeping what belongs to the scans and the method's object level
+// (the objects, their matches, the keypoint counts), which the winner's own run did not fill in.
+void Adopt(RegistrationResult winner, RegistrationResult* result) {
+  winner.source_objects = std::move(result->source_objects);
+  winner.target_objects = std::move(result->target_objects);
+  winner.object_matches = std::move(result->object_matches);
+  winner.rejected_object_matches = result->rejected_object_matches;
+  winner.num_keypoints_source = result->num_keypoints_source;
+  winner.num_keypoints_target = result->num_keypoints_target;
+  *result = std::move(winner);
+}
+
 }  // namespace
+
+double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b) {
+  double sum = 0.0;
+  size_t n = 0;
+  const Eigen::Matrix3d Ra = a.T_target_source.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d Rb = b.T_target_source.topLeftCorner<3, 3>();
+  const Eigen::Vector3d ta = a.T_target_source.topRightCorner<3, 1>();
+  const Eigen::Vector3d tb = b.T_target_source.topRightCorner<3, 1>();
+  for (const RegistrationResult* r : {&a, &b}) {
+    for (const Correspondence& c : r->correspondences) {
+      sum += ((Ra * c.source + ta) - (Rb * c.source + tb)).squaredNorm();
+      ++n;
+    }
+  }
+  return n == 0 ? 0.0 : std::sqrt(sum / static_cast<double>(n));
+}
+
+bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
+                     const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
+                     RegistrationResult* result) {
+  if (!config.hypotheses.image_rival || !config.verify.enabled || !result->valid ||
+      result->path != "object" || !inputs.whole_image) {
+    return false;
+  }
+  timer.Restart();
+  RegistrationResult rival = judge("image-rival", inputs.whole_image(), effective);
+  timer.Mark("hypothesis image-rival");
+  const double apart_m = EstimateDisplacementRms(*result, rival);
+  const bool disagree = apart_m > config.refine.max_distance_coarse_m;
+  char line[240];
+  std::snprintf(line, sizeof(line), "image-rival: %s, score %.3f, %.3f m RMS from %s",
+                rival.valid ? "valid" : "not valid", rival.verification.score, apart_m,
+                result->path.c_str());
+  std::vector<CandidateSummary> all = result->candidates;
+  all.insert(all.end(), rival.candidates.begin(), rival.candidates.end());
+  char object_summary[120];
+  std::snprintf(object_summary, sizeof(object_summary), "%s: score %.3f", result->path.c_str(),
+                result->verification.score);
+  if (rival.valid && disagree && rival.verification.score > result->verification.score) {
+    Adopt(std::move(rival), result);
+    result->reason += std::string(
+                          " [the object path's estimate disagreed with the whole-image one "
+                          "and scored lower: ") +
+                      object_summary + "; " + line + "; chosen: image-rival]";
+  } else {
+    result->reason += std::string(" [checked against the whole-image estimate: ") + line + "]";
+  }
+  result->candidates = std::move(all);
+  return true;
+}
 
 bool WantMoreHypotheses(const PipelineConfig& config, const RegistrationResult& result) {
   return config.hypotheses.enabled && config.verify.enabled &&
@@ -158,16 +221,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     all.insert(all.end(), r.candidates.begin(), r.candidates.end());
     summary += "; " + describe(r);
   }
-  if (best >= 0) {
-    RegistrationResult winner = std::move(tried[static_cast<size_t>(best)]);
-    winner.source_objects = std::move(result->source_objects);
-    winner.target_objects = std::move(result->target_objects);
-    winner.object_matches = std::move(result->object_matches);
-    winner.rejected_object_matches = result->rejected_object_matches;
-    winner.num_keypoints_source = result->num_keypoints_source;
-    winner.num_keypoints_target = result->num_keypoints_target;
-    *result = std::move(winner);
-  }
+  if (best >= 0) Adopt(std::move(tried[static_cast<size_t>(best)]), result);
   result->candidates = std::move(all);
   result->reason += " [hypotheses: " + summary + "; chosen: " + result->path + "]";
 }

@@ -49,6 +49,21 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
                          const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
                          RegistrationResult* result);
 
+// hypotheses.image_rival: when *result is a valid object-path estimate, judges the whole-image
+// correspondences (inputs.whole_image) with `effective` (the method's own estimator) and lets that
+// estimate replace *result when it is valid, disagrees with it (EstimatesDisagree with
+// refine.max_distance_coarse_m) and scores higher. Its candidates are appended to
+// result->candidates and the reason says what the rival scored. Returns whether it ran (the
+// whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
+// image-rival".
+bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
+                     const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
+                     RegistrationResult* result);
+
+// RMS distance (metres) between where the two transforms put the source points of both results'
+// correspondences; 0 when neither has any.
+double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b);
+
 // (c) alone: FPFH correspondences between the two scans' geometry (exposed for tests).
 std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Scan& target,
                                                     const PipelineConfig& config);

@@ -227,6 +227,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());
   v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
   v("refuse_degenerate", c.refuse_degenerate);
+  v("image_rival", c.image_rival);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {

@@ -528,16 +528,20 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     Refine(source, target, effective, &result);
     timer.Mark("refine");
   }
+  const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found_here,
+                            const PipelineConfig& e) {
+    RegistrationResult r;
+    r.path = path;
+    Estimate(std::move(found_here), e, &r);
+    ApplyVerification(source, target, e, path, &r);
+    if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r);
+    return r;
+  };
+  // A valid object-path estimate against the whole-image one (hypotheses.image_rival).
+  if (JudgeImageRival(config, effective, more, judge, timer, &result)) {
+    more.whole_image_tried = true;
+  }
   if (WantMoreHypotheses(config, result)) {
-    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found_here,
-                              const PipelineConfig& e) {
-      RegistrationResult r;
-      r.path = path;
-      Estimate(std::move(found_here), e, &r);
-      ApplyVerification(source, target, e, path, &r);
-      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r);
-      return r;
-    };
     JudgeMoreHypotheses(source.scan, target.scan, config, more, judge, timer, &result);
   }
   for (CandidateSummary& c : result.candidates) {

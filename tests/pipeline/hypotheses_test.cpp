@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "estimate/max_clique.hpp"
 #include "eval/metrics.hpp"
 #include "test_paths.hpp"
@@ -153,6 +155,145 @@ TEST(Hypotheses, RealPairEveryCandidateListedAndTheWinnerIsVerified) {
   EXPECT_TRUE(geometry);
   EXPECT_TRUE(chosen);
   EXPECT_NE(r.reason.find("[hypotheses:"), std::string::npos) << r.reason;
+}
+
+// hypotheses.image_rival: the displacement between two estimates, exactly.
+TEST(ImageRival, DisplacementRmsOverBothResultsPoints) {
+  RegistrationResult a, b;
+  for (double x : {0.0, 1.0, 2.0}) {
+    Correspondence c;
+    c.source = Eigen::Vector3d(x, 0.0, 0.0);
+    a.correspondences.push_back(c);
+  }
+  EXPECT_DOUBLE_EQ(EstimateDisplacementRms(a, b), 0.0);  // same transform
+  b.T_target_source = MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(0.1, 0, 0));
+  EXPECT_NEAR(EstimateDisplacementRms(a, b), 0.1, 1e-12);  // a translation moves every point
+  // 90 deg about z through the origin: the points at x = 0, 1, 2 move by 0, sqrt(2), 2 sqrt(2).
+  b.T_target_source = MakeTransform(M_PI / 2, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero());
+  EXPECT_NEAR(EstimateDisplacementRms(a, b), std::sqrt((0.0 + 2.0 + 8.0) / 3.0), 1e-12);
+  // b's own points count too.
+  Correspondence far;
+  far.source = Eigen::Vector3d(3.0, 0.0, 0.0);
+  b.correspondences.push_back(far);
+  EXPECT_NEAR(EstimateDisplacementRms(a, b), std::sqrt((0.0 + 2.0 + 8.0 + 18.0) / 4.0), 1e-12);
+  EXPECT_DOUBLE_EQ(EstimateDisplacementRms(RegistrationResult(), RegistrationResult()), 0.0);
+}
+
+// The rule of the judge, with a stand-in for estimation: a valid object-path estimate is replaced
+// only by a valid whole-image estimate that disagrees with it and scores higher.
+TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
+  PipelineConfig config;
+  config.hypotheses.image_rival = true;
+  const double gate = config.refine.max_distance_coarse_m;  // 0.15 m
+  RegistrationResult object;
+  object.valid = true;
+  object.path = "object";
+  object.verification.score = 0.35;
+  object.source_objects.push_back(Object("chair", Eigen::Vector3d(1, 0, 2)));
+  object.num_keypoints_source = 123;
+  Correspondence c;
+  c.source = Eigen::Vector3d(0.5, 0.2, 2.0);
+  object.correspondences.assign(10, c);
+  CandidateSummary own;
+  own.name = "object ransac";
+  object.candidates.push_back(own);
+
+  struct Rival {
+    bool valid;
+    double offset_m, score;
+  };
+  const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start, Rival rival,
+                       bool* ran) {
+    HypothesisInputs inputs;
+    int matched = 0;
+    inputs.whole_image = [&] {
+      ++matched;
+      return std::vector<Correspondence>(5, c);
+    };
+    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found,
+                              const PipelineConfig&) {
+      RegistrationResult r;
+      r.path = path;
+      r.valid = rival.valid;
+      r.count_test_passed = true;
+      r.verification.score = rival.score;
+      r.correspondences = std::move(found);
+      r.T_target_source =
+          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0.0, 0.0));
+      CandidateSummary cand;
+      cand.name = path + " ransac";
+      r.candidates.push_back(cand);
+      return r;
+    };
+    RegistrationResult out = start;
+    StageTimer timer;
+    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
+    EXPECT_EQ(matched, *ran ? 1 : 0);
+    return out;
+  };
+  bool ran = false;
+  // Valid, disagreeing, better: replaced, the scans' objects kept, both candidates listed.
+  RegistrationResult r = run(config, object, {true, 2 * gate, 0.47}, &ran);
+  EXPECT_TRUE(ran);
+  EXPECT_EQ(r.path, "image-rival");
+  EXPECT_EQ(r.verification.score, 0.47);
+  ASSERT_EQ(r.source_objects.size(), 1u);
+  EXPECT_EQ(r.num_keypoints_source, 123);
+  ASSERT_EQ(r.candidates.size(), 2u);
+  EXPECT_EQ(r.candidates[0].name, "object ransac");
+  EXPECT_EQ(r.candidates[1].name, "image-rival ransac");
+  EXPECT_NE(r.reason.find("chosen: image-rival"), std::string::npos) << r.reason;
+  // Agreeing (within ICP's widest gate), lower-scoring, or not valid: the object path stays.
+  for (const Rival& rival :
+       {Rival{true, 0.5 * gate, 0.47}, Rival{true, 2 * gate, 0.30}, Rival{false, 2 * gate, 0.90}}) {
+    r = run(config, object, rival, &ran);
+    EXPECT_TRUE(ran);
+    EXPECT_EQ(r.path, "object");
+    EXPECT_EQ(r.verification.score, 0.35);
+    EXPECT_EQ(r.candidates.size(), 2u);
+    EXPECT_NE(r.reason.find("checked against the whole-image estimate"), std::string::npos)
+        << r.reason;
+  }
+  // Not run: switched off, an invalid estimate, the whole-image path, or no check.
+  PipelineConfig off = config;
+  off.hypotheses.image_rival = false;
+  r = run(off, object, {true, 2 * gate, 0.47}, &ran);
+  EXPECT_FALSE(ran);
+  EXPECT_EQ(r.path, "object");
+  RegistrationResult invalid = object;
+  invalid.valid = false;
+  run(config, invalid, {true, 2 * gate, 0.47}, &ran);
+  EXPECT_FALSE(ran);
+  RegistrationResult image = object;
+  image.path = "image-fallback";
+  run(config, image, {true, 2 * gate, 0.47}, &ran);
+  EXPECT_FALSE(ran);
+  PipelineConfig unchecked = config;
+  unchecked.verify.enabled = false;
+  run(unchecked, object, {true, 2 * gate, 0.47}, &ran);
+  EXPECT_FALSE(ran);
+}
+
+TEST(ImageRival, RealPairAgreeingEstimatesKeepTheObjectPath) {
+  // The demo pair (20 -> 0): the object path and the whole image both register it right, so they
+  // agree and the method's own estimate stays; the rival is listed among the candidates.
+  const Scan source = Frame(20), target = Frame(0);
+  PipelineConfig config;
+  config.hypotheses.image_rival = true;
+  const RegistrationResult r = Register(source, target, config);
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_EQ(r.path, "object") << r.reason;
+  EXPECT_NE(r.reason.find("checked against the whole-image estimate: image-rival: valid"),
+            std::string::npos)
+      << r.reason;
+  bool listed = false;
+  for (const CandidateSummary& c : r.candidates) listed |= c.name.rfind("image-rival", 0) == 0;
+  EXPECT_TRUE(listed);
+  const Transform gt = GroundTruth(source, target);
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 2.0);
+  // Without the switch the same transform comes back.
+  const RegistrationResult plain = Register(source, target, PipelineConfig());
+  EXPECT_TRUE(plain.T_target_source == r.T_target_source) << plain.reason;
 }
 
 }  // namespace
