@@ -51,7 +51,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 
 // hypotheses.image_rival: when *result is a valid object-path estimate, judges the whole-image
 // correspondences (inputs.whole_image) with `effective` (the method's own estimator) and lets that
-// estimate replace *result when it is valid, disagrees with it (EstimatesDisagree with
+// estimate replace *result when it is valid, disagrees with it (EstimateDisplacementRms above
 // refine.max_distance_coarse_m) and scores higher. Its candidates are appended to
 // result->candidates and the reason says what the rival scored. Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
