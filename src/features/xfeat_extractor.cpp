@@ -34,53 +34,89 @@ void SampleBilinear(const float* blob, int channels, int height, int width, floa
 XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfig& config,
                                const InferenceConfig& inference)
     : config_(config),
+      square_input_(UsesSquareInput(config, inference)),
       model_(LoadOnnxModel(model_path,
-                           "XFeat ONNX model (expected xfeat_640x640.onnx from models/xfeat)",
+                           square_input_ ? "XFeat ONNX model (expected xfeat_640x640.onnx from "
+                                           "models/xfeat)"
+                                         : "XFeat ONNX model (expected xfeat_any_size.onnx, made "
+                                           "by scripts/fetch-assets.sh)",
                            inference)) {}
 
+bool XFeatExtractor::UsesSquareInput(const FeatureConfig& config,
+                                     const InferenceConfig& inference) {
+  return config.xfeat_square_input || !config.xfeat_keep_aspect ||
+         ResolveEngine(inference) == InferenceEngine::kOpenCv;
+}
+
+std::string XFeatExtractor::ModelFile(const FeatureConfig& config,
+                                      const InferenceConfig& inference) {
+  return UsesSquareInput(config, inference) ? "xfeat/xfeat_640x640.onnx"
+                                            : "xfeat/xfeat_any_size.onnx";
+}
+
+cv::Size XFeatExtractor::InputSize(const cv::Size& image, bool square_input) {
+  if (square_input) return {kInputSize, kInputSize};
+  // The scaled image (longer side 640 px) rounded up to multiples of 32: the backbone halves the
+  // resolution five times, and upstream XFeat sizes its input the same way.
+  const double scale = std::min(static_cast<double>(kInputSize) / image.width,
+                                static_cast<double>(kInputSize) / image.height);
+  const auto round_up = [&](int pixels) {
+    const int scaled = std::min(kInputSize, static_cast<int>(std::lround(pixels * scale)));
+    return (scaled + kSizeMultiple - 1) / kSizeMultiple * kSizeMultiple;
+  };
+  return {round_up(image.width), round_up(image.height)};
+}
+
 ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
-  const int n = kInputSize, cells = kInputSize / kCell;
-  // The network takes a fixed 640x640 input. The image is scaled uniformly so that its longer side
-  // fits (a 640x480 frame is not scaled at all) and the rest is filled with the image's mean
-  // colour: stretching it to the square instead (as before issue 10) distorted 540x360 HoloLens
-  // frames by 1.19x / 1.78x, so the same surface looked different in two views at different
-  // angles. The flat fill gives no keypoints; any found within a cell of it are dropped below.
-  const double scale =
-      std::min(static_cast<double>(n) / bgr.cols, static_cast<double>(n) / bgr.rows);
-  const int width =
-      config_.xfeat_keep_aspect ? std::min(n, static_cast<int>(std::lround(bgr.cols * scale))) : n;
-  const int height =
-      config_.xfeat_keep_aspect ? std::min(n, static_cast<int>(std::lround(bgr.rows * scale))) : n;
-  cv::Mat square(n, n, CV_8UC3, cv::mean(bgr));
+  const cv::Size input = InputSize(bgr.size(), square_input_);
+  const int n_x = input.width, n_y = input.height;
+  const int cells_x = n_x / kCell, cells_y = n_y / kCell;
+  // The image is scaled uniformly so that its longer side is 640 px (a 640x480 frame is not
+  // scaled at all) and the rest of the input is filled with the image's mean colour: stretching
+  // it instead (as before issue 10) distorted 540x360 HoloLens frames by 1.19x / 1.78x, so the
+  // same surface looked different in two views at different angles. The flat fill gives no
+  // keypoints; any found within a cell of it are dropped below.
+  const double scale = std::min(static_cast<double>(kInputSize) / bgr.cols,
+                                static_cast<double>(kInputSize) / bgr.rows);
+  const int width = config_.xfeat_keep_aspect
+                        ? std::min(n_x, static_cast<int>(std::lround(bgr.cols * scale)))
+                        : n_x;
+  const int height = config_.xfeat_keep_aspect
+                         ? std::min(n_y, static_cast<int>(std::lround(bgr.rows * scale)))
+                         : n_y;
+  cv::Mat padded(n_y, n_x, CV_8UC3, cv::mean(bgr));
   if (width == bgr.cols && height == bgr.rows) {
-    bgr.copyTo(square(cv::Rect(0, 0, width, height)));
+    bgr.copyTo(padded(cv::Rect(0, 0, width, height)));
   } else {
     // Linear when enlarging (as before issue 10), area averaging when shrinking (no aliasing).
     const int interpolation =
         width >= bgr.cols && height >= bgr.rows ? cv::INTER_LINEAR : cv::INTER_AREA;
-    cv::resize(bgr, square(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,
+    cv::resize(bgr, padded(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,
                interpolation);
   }
-  const cv::Mat blob = cv::dnn::blobFromImage(square, 1.0 / 255.0, cv::Size(n, n), cv::Scalar(),
+  const cv::Mat blob = cv::dnn::blobFromImage(padded, 1.0 / 255.0, input, cv::Scalar(),
                                               /*swapRB=*/true, /*crop=*/false);
   const std::vector<Tensor> outputs =
-      model_->Run({{"input", {1, 3, n, n}, blob.ptr<float>()}}, {"output", "1266", "266"});
-  const float* descriptor_map = outputs[0].data.data();  // 64 x 80 x 80
-  const float* logits = outputs[1].data.data();          // 65 x 80 x 80
-  const float* reliability = outputs[2].data.data();     // 1 x 80 x 80, sigmoid applied
-  const size_t plane = static_cast<size_t>(cells) * cells;
+      model_->Run({{"input", {1, 3, n_y, n_x}, blob.ptr<float>()}}, {"output", "1266", "266"});
+  const float* descriptor_map = outputs[0].data.data();  // D x H/8 x W/8
+  const float* logits = outputs[1].data.data();          // 65 x H/8 x W/8
+  const float* reliability = outputs[2].data.data();     // 1 x H/8 x W/8, sigmoid applied
+  const size_t plane = static_cast<size_t>(cells_y) * cells_x;
   const int descriptor_dim =
       outputs[0].shape.size() == 4 ? static_cast<int>(outputs[0].shape[1]) : 0;
   if (descriptor_dim < 1 || outputs[0].data.size() != descriptor_dim * plane ||
       outputs[1].data.size() != 65 * plane || outputs[2].data.size() != plane) {
-    throw MakeInputError("XFeat ONNX model", "outputs are not 1xDx80x80, 1x65x80x80, 1x1x80x80");
+    throw MakeInputError("XFeat ONNX model", "outputs are not 1xDx" + std::to_string(cells_y) +
+                                                 "x" + std::to_string(cells_x) +
+                                                 ", 1x65x.., 1x1x.. for a " + std::to_string(n_x) +
+                                                 "x" + std::to_string(n_y) + " input");
   }
 
   // Softmax over the 65 channels of each cell; channel c < 64 is pixel (c / 8, c % 8) of the cell.
-  cv::Mat heat(n, n, CV_32F);
-  for (int cy = 0; cy < cells; ++cy) {
-    for (int cx = 0; cx < cells; ++cx) {
-      const size_t cell = static_cast<size_t>(cy) * cells + cx;
+  cv::Mat heat(n_y, n_x, CV_32F);
+  for (int cy = 0; cy < cells_y; ++cy) {
+    for (int cx = 0; cx < cells_x; ++cx) {
+      const size_t cell = static_cast<size_t>(cy) * cells_x + cx;
       float max_logit = -1e30f;
       for (int c = 0; c < 65; ++c) max_logit = std::max(max_logit, logits[c * plane + cell]);
       float sum = 0;
@@ -100,18 +136,19 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   };
   std::vector<Candidate> candidates;
   const float threshold = static_cast<float>(config_.xfeat_detection_threshold);
-  const int x_end = width < n ? width - kCell : n, y_end = height < n ? height - kCell : n;
-  for (int y = 0; y < n; ++y) {
+  const int x_end = width < n_x ? width - kCell : n_x;
+  const int y_end = height < n_y ? height - kCell : n_y;
+  for (int y = 0; y < n_y; ++y) {
     const float* h = heat.ptr<float>(y);
     const float* m = local_max.ptr<float>(y);
-    for (int x = 0; x < n; ++x) {
+    for (int x = 0; x < n_x; ++x) {
       if (x >= x_end || y >= y_end) break;  // the fill and its border
       if (h[x] > threshold && h[x] >= m[x]) {
         // Cell coordinates of pixel centre (x, y) with align_corners = false.
         const float u = (static_cast<float>(x) + 0.5f) / kCell - 0.5f;
         const float v = (static_cast<float>(y) + 0.5f) / kCell - 0.5f;
         float r = 0;
-        SampleBilinear(reliability, 1, cells, cells, u, v, &r);
+        SampleBilinear(reliability, 1, cells_y, cells_x, u, v, &r);
         candidates.push_back({static_cast<float>(x), static_cast<float>(y), h[x] * r});
       }
     }
@@ -129,7 +166,7 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   std::vector<float> d(descriptor_dim);
   for (size_t i = 0; i < candidates.size(); ++i) {
     const Candidate& c = candidates[i];
-    SampleBilinear(descriptor_map, descriptor_dim, cells, cells, (c.x + 0.5f) / kCell - 0.5f,
+    SampleBilinear(descriptor_map, descriptor_dim, cells_y, cells_x, (c.x + 0.5f) / kCell - 0.5f,
                    (c.y + 0.5f) / kCell - 0.5f, d.data());
     float norm = 0;
     for (float value : d) norm += value * value;

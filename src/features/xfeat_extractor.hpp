@@ -1,9 +1,10 @@
 // XFeat sparse keypoints and 64-d descriptors (Potje et al., CVPR 2024), ONNX, run by the engine
 // of inference.engine (ONNX Runtime or OpenCV DNN, src/inference/onnx_model.hpp).
-// Pre/post-processing follows ../shared/models/xfeat/MANIFEST.md: fixed 640x640 RGB/255 input;
-// 65-channel keypoint logits -> softmax, drop the dustbin, depth-to-space to a full-resolution
-// heatmap; 5x5 non-maximum suppression; score = heatmap x reliability; descriptors sampled
-// bilinearly from the stride-8 map and L2-normalised.
+// Pre/post-processing follows ../shared/models/xfeat/MANIFEST.md: RGB/255 input, the image scaled
+// so its longer side is 640 px and padded to multiples of 32 (xfeat_any_size.onnx) or to the
+// export's fixed 640x640 (features.xfeat_square_input); 65-channel keypoint logits -> softmax,
+// drop the dustbin, depth-to-space to a full-resolution heatmap; 5x5 non-maximum suppression; score
+// = heatmap x reliability; descriptors sampled bilinearly from the stride-8 map and L2-normalised.
 #pragma once
 
 #include <memory>
@@ -15,16 +16,31 @@ namespace zeroreg {
 
 class XFeatExtractor : public FeatureExtractor {
  public:
+  // `model_path` is the file ModelFile names for this config and engine.
   XFeatExtractor(const std::string& model_path, const FeatureConfig& config,
                  const InferenceConfig& inference = {});
   std::string name() const override { return "xfeat"; }
   ImageFeatures Extract(const cv::Mat& bgr) const override;
 
-  static constexpr int kInputSize = 640;  // the export has fixed 1x3x640x640 input
-  static constexpr int kCell = 8;         // descriptor / logit stride
+  // Whether XFeat runs on the export's fixed 640x640 square: when asked (features.
+  // xfeat_square_input), when stretching (xfeat_keep_aspect false), and on OpenCV DNN, whose 4.6
+  // importer needs every shape when it loads a model and so cannot load the any-size model.
+  static bool UsesSquareInput(const FeatureConfig& config, const InferenceConfig& inference);
+  // The model file for that choice, relative to the assets folder.
+  static std::string ModelFile(const FeatureConfig& config, const InferenceConfig& inference);
+
+  // The network's input size for an image: 640x640 for the square export; otherwise the image
+  // scaled so its longer side is 640 px, rounded up to multiples of 32 (640x480 stays 640x480,
+  // a 540x360 HoloLens frame becomes 640x448).
+  static cv::Size InputSize(const cv::Size& image, bool square_input);
+
+  static constexpr int kInputSize = 640;    // longer side; the square export's fixed size
+  static constexpr int kCell = 8;           // descriptor / logit stride
+  static constexpr int kSizeMultiple = 32;  // the backbone's coarsest stride
 
  private:
   FeatureConfig config_;
+  bool square_input_;
   std::unique_ptr<OnnxModel> model_;  // thread-safe Run
 };
 

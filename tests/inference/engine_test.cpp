@@ -38,7 +38,9 @@ InferenceConfig Engine(const std::string& name, int threads = 2) {
   return c;
 }
 
-std::string XFeatPath() { return AssetsDir() + "/xfeat/xfeat_640x640.onnx"; }
+std::string XFeatPath(const FeatureConfig& config, const InferenceConfig& inference) {
+  return AssetsDir() + "/" + XFeatExtractor::ModelFile(config, inference);
+}
 
 TEST(InferenceEngine, ResolvesNamesAndRejectsBadOnes) {
   EXPECT_EQ(ResolveEngine(Engine("opencv")), InferenceEngine::kOpenCv);
@@ -102,9 +104,11 @@ Agreement Compare(const ImageFeatures& a, const ImageFeatures& b) {
 
 TEST(InferenceEngine, XFeatSameOnBothEngines) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
-  const FeatureConfig config;
-  const XFeatExtractor cv_dnn(XFeatPath(), config, Engine("opencv"));
-  const XFeatExtractor ort(XFeatPath(), config, Engine("onnxruntime"));
+  // OpenCV DNN runs the square export only, so both engines get the same 640x640 input here.
+  FeatureConfig config;
+  config.xfeat_square_input = true;
+  const XFeatExtractor cv_dnn(XFeatPath(config, Engine("opencv")), config, Engine("opencv"));
+  const XFeatExtractor ort(XFeatPath(config, Engine("onnxruntime")), config, Engine("onnxruntime"));
   for (int frame : kFrames) {
     const cv::Mat img = ReadFrame(frame);
     const ImageFeatures a = cv_dnn.Extract(img), b = ort.Extract(img);
@@ -169,10 +173,11 @@ TEST(InferenceEngine, PicodetSameOnBothEngines) {
 // session asks for deterministic compute): 1 and 2 threads give bit-identical outputs.
 TEST(InferenceEngine, OnnxRuntimeOutputDoesNotDependOnThreads) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
-  const FeatureConfig config;
-  const XFeatExtractor one(XFeatPath(), config, Engine("onnxruntime", 1));
-  const XFeatExtractor two(XFeatPath(), config, Engine("onnxruntime", 2));
-  const XFeatExtractor four(XFeatPath(), config, Engine("onnxruntime", 4));
+  const FeatureConfig config;  // the any-size model at the frames' own 640x480
+  const std::string xfeat = XFeatPath(config, Engine("onnxruntime"));
+  const XFeatExtractor one(xfeat, config, Engine("onnxruntime", 1));
+  const XFeatExtractor two(xfeat, config, Engine("onnxruntime", 2));
+  const XFeatExtractor four(xfeat, config, Engine("onnxruntime", 4));
   const DetectorModelPaths paths = ModelPaths();
   YoloxDetector det_one(paths.yolox_onnx, paths.yolox_classes, DetectorConfig{},
                         Engine("onnxruntime", 1));

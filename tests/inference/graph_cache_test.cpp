@@ -155,7 +155,7 @@ void ExpectSameFeatures(const ImageFeatures& a, const ImageFeatures& b, int fram
 TEST(GraphCache, CachedGraphsGiveBitIdenticalOutputs) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
   TempDir cache("graph_cache");
-  const std::string xfeat = AssetsDir() + "/xfeat/xfeat_640x640.onnx";
+  const std::string xfeat = AssetsDir() + "/xfeat/xfeat_any_size.onnx";
   const auto cold = LoadOnnxModel(xfeat, "XFeat", InferenceEngine::kOnnxRuntime, 1, cache.str());
   EXPECT_FALSE(cold->FromGraphCache());
   const auto warm = LoadOnnxModel(xfeat, "XFeat", InferenceEngine::kOnnxRuntime, 1, cache.str());
