@@ -5,7 +5,7 @@ multiple of 32 (xfeat_any_size.onnx).
     python3 scripts/rewrite_onnx_xfeat.py IN.onnx OUT.onnx
 
 The export (models/xfeat/MANIFEST.md) is fully convolutional except for two places where PyTorch's
-tracer wrote the 640x640 input size into the graph as constants:
+tracer wrote the 640x640 input size into the graph as constants (1, 2); one input is added (3):
 
 1. the keypoint head's input, XFeat's `_unfold2d(x, 8)` of the normalised grey image (each 8x8
    cell's 64 pixels as 64 channels, channel = 8 * row + column inside the cell), traced as 80
@@ -17,8 +17,15 @@ tracer wrote the 640x640 input size into the graph as constants:
    target size is the constant [80, 80]. It becomes the 1/8 map's own height and width, read
    from its shape at run time (what `F.interpolate(size=x3.shape[-2:])` did before tracing).
 
-Every weight and every other node is kept as it is, so on a 640x640 input the rewritten model
-computes the same outputs as the original (tests/features/xfeat_test.cpp checks it on real
+3. a new input `contrast` (one float) multiplies the instance-normalised grey image. The export
+   normalises the image by its own mean and variance; when a 640x480 frame was padded to 640x640
+   with its mean colour, the flat fill diluted the variance by the share of fill, so the network
+   saw the image's contrast raised by sqrt(640 * 640 / (640 * 480)) = 1.15. zeroreg gives that
+   factor (src/features/xfeat_extractor.cpp), so the features at the image's own size are those
+   of the padded square every default was measured with; 1 gives upstream XFeat's normalisation.
+
+Every weight and every other node is kept as it is, so on a 640x640 input with contrast 1 the
+rewritten model computes the same outputs as the original (tests/features/xfeat_test.cpp checks it on real
 frames). Why: a 640x480 frame had to be padded to 640x640, a quarter of XFeat's work spent on
 fill (docs/SPEED.md, "XFeat at the image's own size").
 
@@ -34,6 +41,7 @@ NORMALISED_IMAGE = "126"  # InstanceNormalization output, 1 x 1 x H x W
 UNFOLDED = "1250"  # Reshape output, 1 x 64 x H/8 x W/8: the keypoint head's input
 EIGHTH_MAP = "176"  # the backbone's 1/8-resolution map, 1 x 64 x H/8 x W/8
 RESIZE_SIZE_CONCATS = ("223", "238")  # Concat(N and C of the map, [80, 80]) -> Resize sizes
+CONTRAST = "contrast"  # new input, 1 float: multiplies the normalised image
 OUTPUT_DIMS = {"output": 64, "1266": 65, "266": 1}
 
 
@@ -95,13 +103,20 @@ def main(argv):
             fail(f"tensor '{name}' is not a two-input Concat")
         concat.input[1] = hw_name
 
+    # 3. A contrast factor on the normalised image, given with every run (see the docstring).
+    norm = producer[NORMALISED_IMAGE]
+    norm.output[0] = NORMALISED_IMAGE + "_unscaled"
+    contrast_node = helper.make_node("Mul", [norm.output[0], CONTRAST], [NORMALISED_IMAGE],
+                                     name="contrast")
+    graph.input.append(helper.make_tensor_value_info(CONTRAST, onnx.TensorProto.FLOAT, [1]))
+
     nodes = [n for n in graph.node if id(n) not in removed_ids]
     # Topological order: the new nodes go right after the node producing their input.
     ordered = []
     for node in nodes:
         ordered.append(node)
-        if NORMALISED_IMAGE in node.output:
-            ordered.append(new_nodes[0])
+        if node is norm:
+            ordered.extend([contrast_node, new_nodes[0]])
         if EIGHTH_MAP in node.output:
             ordered.extend(new_nodes[1:])
     del graph.node[:]
@@ -112,7 +127,7 @@ def main(argv):
     del graph.initializer[:]
     graph.initializer.extend(initializers)
 
-    # 3. Symbolic height and width on the input and the outputs; no stale fixed shapes inside.
+    # 4. Symbolic height and width on the input and the outputs; no stale fixed shapes inside.
     dims = graph.input[0].type.tensor_type.shape.dim
     dims[2].Clear()
     dims[2].dim_param = "height"

@@ -24,6 +24,11 @@ struct FeatureConfig {
   // change: a quarter of a 640x480 frame's XFeat work went to the fill). Stretching
   // (xfeat_keep_aspect false) always uses the square.
   bool xfeat_square_input = false;
+  // At the image's own size: true = the network normalises the image as it did on the padded
+  // square (the flat fill diluted the grey variance, raising the contrast the network saw by
+  // sqrt(640 x 640 / input area): 1.15 for 640x480), so the features are those every default was
+  // measured with; false = by the image's own variance, as upstream XFeat does.
+  bool xfeat_square_contrast = true;
   // SIFT: OpenCV contrast threshold (OpenCV default 0.04).
   double sift_contrast_threshold = 0.04;
 };

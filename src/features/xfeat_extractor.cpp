@@ -96,8 +96,17 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   }
   const cv::Mat blob = cv::dnn::blobFromImage(padded, 1.0 / 255.0, input, cv::Scalar(),
                                               /*swapRB=*/true, /*crop=*/false);
-  const std::vector<Tensor> outputs =
-      model_->Run({{"input", {1, 3, n_y, n_x}, blob.ptr<float>()}}, {"output", "1266", "266"});
+  std::vector<TensorInput> inputs = {{"input", {1, 3, n_y, n_x}, blob.ptr<float>()}};
+  // The any-size model multiplies the normalised grey image by `contrast`
+  // (scripts/rewrite_onnx_xfeat.py). On the square the fill (the image's mean) diluted the grey
+  // variance by the fill's share; the same factor here gives the features of the square.
+  const float contrast =
+      config_.xfeat_square_contrast
+          ? static_cast<float>(std::sqrt(static_cast<double>(kInputSize) * kInputSize /
+                                         (static_cast<double>(n_x) * n_y)))
+          : 1.0f;
+  if (!square_input_) inputs.push_back({"contrast", {1}, &contrast});
+  const std::vector<Tensor> outputs = model_->Run(inputs, {"output", "1266", "266"});
   const float* descriptor_map = outputs[0].data.data();  // D x H/8 x W/8
   const float* logits = outputs[1].data.data();          // 65 x H/8 x W/8
   const float* reliability = outputs[2].data.data();     // 1 x H/8 x W/8, sigmoid applied

@@ -65,6 +65,7 @@ void Visit(V& v, FeatureConfig& c) {
   v("xfeat_detection_threshold", c.xfeat_detection_threshold, Fraction());
   v("xfeat_keep_aspect", c.xfeat_keep_aspect);
   v("xfeat_square_input", c.xfeat_square_input);
+  v("xfeat_square_contrast", c.xfeat_square_contrast);
   v("sift_contrast_threshold", c.sift_contrast_threshold, AtLeast(0));
 }
 template <typename V>

@@ -8,6 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "features/xfeat_extractor.hpp"
 #include "pipeline/cli_fixture.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/version.hpp"
@@ -81,19 +82,24 @@ TEST_F(CliBadInput, MalformedPose) {
   ExpectClearError(Run(), "frame-000020.pose.txt", "zero");
 }
 
+// The XFeat file the default config needs: xfeat_any_size.onnx (made by fetch-assets) with ONNX
+// Runtime, the 640x640 export with OpenCV DNN.
+std::string DefaultXFeatFile() { return XFeatExtractor::ModelFile({}, {}); }
+
 TEST_F(CliBadInput, MissingModelFile) {
   fs::create_directories(dir_ / "assets");
   const auto r = Run("--assets '" + Path("assets") + "'");
-  ExpectClearError(r, "xfeat_640x640.onnx", "missing");
+  ExpectClearError(r, fs::path(DefaultXFeatFile()).filename().string(), "missing");
+  ExpectClearError(r, "run bash scripts/fetch-assets.sh", "missing");
 }
 
 TEST_F(CliBadInput, CorruptModelFileFailsItsChecksum) {
-  fs::create_directories(dir_ / "assets" / "xfeat");
-  fs::copy_file(testing::RepoDir() + "/assets/xfeat/xfeat_640x640.onnx",
-                dir_ / "assets" / "xfeat" / "xfeat_640x640.onnx");
-  fs::resize_file(dir_ / "assets" / "xfeat" / "xfeat_640x640.onnx", 1000);  // truncated download
+  const fs::path file = dir_ / "assets" / DefaultXFeatFile();
+  fs::create_directories(file.parent_path());
+  fs::copy_file(testing::RepoDir() + "/assets/" + DefaultXFeatFile(), file);
+  fs::resize_file(file, 1000);  // truncated download
   const auto r = Run("--assets '" + Path("assets") + "'");
-  ExpectClearError(r, "xfeat_640x640.onnx", "sha256");
+  ExpectClearError(r, file.filename().string(), "sha256");
 }
 
 TEST_F(CliBadInput, UnknownConfigKey) {
