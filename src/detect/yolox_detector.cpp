@@ -1,8 +1,8 @@
 #include <cmath>
-#include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "detect/backends.hpp"
+#include "inference/image_tensor.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -21,11 +21,9 @@ std::vector<Detection> YoloxDetector::Detect(const cv::Mat& bgr, const std::stri
   double r = 1.0;
   const cv::Mat canvas = detail::LetterboxTopLeft(bgr, kInputSize, &r);
   // Raw 0-255 BGR, no mean/std: the export bakes no normalisation in (MANIFEST "Input").
-  const cv::Mat blob = cv::dnn::blobFromImage(canvas, 1.0, cv::Size(kInputSize, kInputSize),
-                                              cv::Scalar(0, 0, 0), /*swapRB=*/false,
-                                              /*crop=*/false);
+  const std::vector<float> blob = ImagePlanes(canvas, 1.0, /*swap_rb=*/false);
   const std::vector<Tensor> outputs =
-      model_->Run({{"images", {1, 3, kInputSize, kInputSize}, blob.ptr<float>()}}, {"output"});
+      model_->Run({{"images", {1, 3, kInputSize, kInputSize}, blob.data()}}, {"output"});
   const std::vector<float>& out = outputs[0].data;
   const int num_cols = 5 + static_cast<int>(classes_.size());
   static constexpr int kStrides[3] = {8, 16, 32};

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <opencv2/dnn.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "inference/image_tensor.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -94,9 +94,8 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
     cv::resize(bgr, padded(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,
                interpolation);
   }
-  const cv::Mat blob = cv::dnn::blobFromImage(padded, 1.0 / 255.0, input, cv::Scalar(),
-                                              /*swapRB=*/true, /*crop=*/false);
-  std::vector<TensorInput> inputs = {{"input", {1, 3, n_y, n_x}, blob.ptr<float>()}};
+  const std::vector<float> blob = ImagePlanes(padded, 1.0 / 255.0, /*swap_rb=*/true);
+  std::vector<TensorInput> inputs = {{"input", {1, 3, n_y, n_x}, blob.data()}};
   // The any-size model multiplies the normalised grey image by `contrast`
   // (scripts/rewrite_onnx_xfeat.py). On the square the fill (the image's mean) diluted the grey
   // variance by the fill's share; the same factor here gives the features of the square.
