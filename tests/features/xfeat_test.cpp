@@ -176,5 +176,44 @@ TEST(XFeat, OwnSizeKeypointsAreTheSquareInputsKeypoints) {
   }
 }
 
+// Images of other sizes go through the same rule: a 1280x960 copy of a 640x480 frame is scaled back
+// to 640x480 inside, and its keypoints, mapped back to its own pixels, are the frame's keypoints
+// at twice the coordinates; a 600x400 crop runs at 640x448 (scaled 1.067, 21 rows of fill) and
+// keeps every keypoint inside the crop.
+TEST(XFeat, KeypointsMapBackToTheImagesOwnPixels) {
+  if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
+  const XFeatExtractor xfeat = Make(FeatureConfig{}, OnnxRuntime());
+  const cv::Mat frame = ReadColor(perception_test::FramePath(0, "color.jpg"));
+  cv::Mat large;
+  cv::resize(frame, large, {1280, 960}, 0, 0, cv::INTER_LINEAR);
+  const ImageFeatures a = xfeat.Extract(frame), b = xfeat.Extract(large);
+  ASSERT_GT(a.keypoints.size(), 1000u);
+  int near = 0;
+  for (const Eigen::Vector2f& k : b.keypoints) {
+    const Eigen::Vector2f back =
+        (k + Eigen::Vector2f(0.5f, 0.5f)) / 2 - Eigen::Vector2f(0.5f, 0.5f);
+    for (const Eigen::Vector2f& j : a.keypoints) {
+      if ((back - j).squaredNorm() <= 1.0f) {
+        ++near;
+        break;
+      }
+    }
+  }
+  std::printf("1280x960 copy: %zu keypoints, %d within 1 px of the 640x480 frame's\n",
+              b.keypoints.size(), near);
+  EXPECT_GE(near, static_cast<int>(0.7 * b.keypoints.size()));  // 82 % here
+
+  const cv::Mat crop = frame(cv::Rect(20, 40, 600, 400)).clone();
+  EXPECT_EQ(XFeatExtractor::InputSize(crop.size(), false), cv::Size(640, 448));
+  const ImageFeatures c = xfeat.Extract(crop);
+  ASSERT_GT(c.keypoints.size(), 1000u);
+  for (const Eigen::Vector2f& k : c.keypoints) {
+    EXPECT_GE(k.x(), -0.5f);
+    EXPECT_GE(k.y(), -0.5f);
+    EXPECT_LE(k.x(), crop.cols - 0.5f);
+    EXPECT_LE(k.y(), crop.rows - 0.5f);
+  }
+}
+
 }  // namespace
 }  // namespace zeroreg
