@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <cstdlib>
 
 #include "commands.hpp"
 #include "config_options.hpp"
@@ -27,6 +28,11 @@ Runner AddInfoCommand(CLI::App& app) {
     std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
     const std::string assets = ResolveAssetsDir(config.assets_dir);
     std::printf("assets: %s\n", assets.c_str());
+    // What the launcher (apps/launcher/) or zeroreg-core's own re-execution set up.
+    const char* tuning = std::getenv("ZEROREG_MALLOC_TUNING");
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    std::printf("malloc tuning: %s (GLIBC_TUNABLES=%s)\n", tuning ? tuning : "not applied",
+                tunables ? tunables : "");
     for (const std::string& file : {XFeatExtractor::ModelFile(config.features, config.inference),
                                     std::string("yolox_nano_coco/yolox_nano.onnx")}) {
       std::printf("  %s: %s (sha256 ok)\n", file.c_str(), RequireAsset(assets, file).c_str());

@@ -64,12 +64,17 @@ trap 'rm -rf "$outside"' EXIT
 (cd "$outside" && env -u PYTHONPATH -u ZEROREG_PYTHONPATH "$repo_root/build/venv/bin/python" \
   -m pytest -q -c "$repo_root/python/pytest.ini" "$repo_root/python/tests")
 
-# 4. The same transform, bit for bit, from the build tree's CLI, the installed CLI, the example
-#    and the venv. JSON numbers are written with 17 significant digits, so they round-trip exactly.
+# 4. The same transform, bit for bit, from the build tree's CLI, the installed CLI (tuned and
+#    untuned), the example and the venv. JSON numbers are written with 17 significant digits, so
+#    they round-trip exactly.
 build/zeroreg register --source "$kitchen@20" --target "$kitchen@0" --out "$out/cli.json" >/dev/null
 build/install/bin/zeroreg register --source "$kitchen@20" --target "$kitchen@0" \
   --out "$out/installed-cli.json" >/dev/null
-/usr/bin/python3 - "$out/cli.json" "$out/installed-cli.json" build/example/result.json \
+# zeroreg-core without glibc's malloc tunables (apps/tuned_environment.cpp): the same numbers.
+ZEROREG_MALLOC_TUNING=off build/install/bin/zeroreg-core register --source "$kitchen@20" \
+  --target "$kitchen@0" --out "$out/installed-untuned.json" >/dev/null
+/usr/bin/python3 - "$out/cli.json" "$out/installed-cli.json" "$out/installed-untuned.json" \
+  build/example/result.json \
   build/venv/result.json <<'EOF'
 import json, re, sys
 

@@ -18,15 +18,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `zeroreg <arguments>` through the shell and captures its output and exit code. With
-// timeout_seconds > 0 the command is killed after that long (exit code 124), so a test of
-// something that used to hang fails instead of hanging.
-inline CommandResult RunCli(const std::string& arguments, int timeout_seconds = 0) {
+// Runs `command` through the shell and captures its output (stdout and stderr) and exit code.
+inline CommandResult RunCommand(const std::string& command) {
   CommandResult result;
-  const std::string limit =
-      timeout_seconds > 0 ? "timeout " + std::to_string(timeout_seconds) + " " : "";
-  const std::string command = limit + "'" + CliPath() + "' " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return result;
   std::array<char, 4096> buffer{};
   size_t n = 0;
@@ -35,6 +30,15 @@ inline CommandResult RunCli(const std::string& arguments, int timeout_seconds = 
   const int status = pclose(pipe);
   result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return result;
+}
+
+// Runs `zeroreg <arguments>` through the shell and captures its output and exit code. With
+// timeout_seconds > 0 the command is killed after that long (exit code 124), so a test of
+// something that used to hang fails instead of hanging.
+inline CommandResult RunCli(const std::string& arguments, int timeout_seconds = 0) {
+  const std::string limit =
+      timeout_seconds > 0 ? "timeout " + std::to_string(timeout_seconds) + " " : "";
+  return RunCommand(limit + "'" + CliPath() + "' " + arguments);
 }
 
 }  // namespace zeroreg::testing
