@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/cli_fixture.hpp"
 #include "test_paths.hpp"
 #include "tuned_environment.hpp"
 
@@ -139,13 +140,7 @@ TEST_F(MallocTuning, SameRegistrationWithAndWithoutIt) {
   }
   ASSERT_EQ(ra.exit_code, 0) << ra.output;
   ASSERT_EQ(rb.exit_code, 0) << rb.output;
-  nlohmann::json ja = nlohmann::json::parse(std::ifstream(a));
-  nlohmann::json jb = nlohmann::json::parse(std::ifstream(b));
-  ja["result"].erase("timings_ms");
-  jb["result"].erase("timings_ms");
-  EXPECT_EQ(ja, jb);
-  fs::remove(a);
-  fs::remove(b);
+  EXPECT_EQ(testing::TakeResultWithoutTimings(a), testing::TakeResultWithoutTimings(b));
 }
 
 }  // namespace

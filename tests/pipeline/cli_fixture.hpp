@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "test_paths.hpp"
@@ -14,6 +15,15 @@
 namespace zeroreg::testing {
 
 namespace fs = std::filesystem;
+
+// The JSON a `register --out` wrote to `path`, without its timings (the one part that differs
+// between runs of the same input), and the file removed.
+inline nlohmann::json TakeResultWithoutTimings(const std::string& path) {
+  nlohmann::json j = nlohmann::json::parse(std::ifstream(path));
+  j["result"].erase("timings_ms");
+  fs::remove(path);
+  return j;
+}
 
 // A copy of redkitchen frames 0 and 20 in the 3DMatch layout, to be damaged one way per test.
 class CliBadInput : public ::testing::Test {
