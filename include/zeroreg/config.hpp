@@ -309,7 +309,8 @@ struct RefineConfig {
   double anchor_weight_coarse = 1.0;
   // With verification on, the refined transform is kept only if at least this fraction of the
   // estimate's RANSAC inliers stay within max_distance_coarse_m of it (0 = no such test): a
-  // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict").
+  // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict"). Applied only
+  // when the check accepted the estimate; an estimate it refused leaves ICP to the check alone.
   double min_kept_inlier_fraction = 0.5;
   double anchor_weight_fine = 0.0;
   // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
