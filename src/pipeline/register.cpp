@@ -257,13 +257,16 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
     // on cabinet-gap3 and hololens-gap5) is a new registration the image evidence contradicts, not
     // a refinement. (Counting them at the 5 cm inlier distance instead rejected correct 5 cm
     // corrections on redkitchen-gap60: RANSAC's inliers sit up to 5 cm off its own estimate.)
-    // The test applies only to an estimate the check accepted: an estimate under which the scans
+    // The test applies to an estimate the check accepted. An estimate under which the scans
     // contradict each other has correspondences that are not evidence of anything (on
     // redkitchen-cross 471-866 and 490-858 they sit on repeated cabinet fronts, 8-10 deg off, and
     // ICP from there reaches the truth within 1.4-3.8 deg), so ICP's transform is judged by the
-    // check alone, as any other hypothesis is.
+    // check alone, as any other hypothesis is; except where the check finds the geometry
+    // degenerate: there it cannot judge alone (a HoloLens wall lets ICP slide a metre and still
+    // pass, hololens-gap5 165-170), as for the extra sources (hypotheses.refuse_degenerate).
+    const bool evidence_needed = r->verification.passed || refined.verification.degenerate;
     const int kept = CountWithin(*r, icp.T_target_source, config.max_distance_coarse_m);
-    if (r->verification.passed && kept < config.min_kept_inlier_fraction * r->num_inliers) {
+    if (evidence_needed && kept < config.min_kept_inlier_fraction * r->num_inliers) {
       std::snprintf(note, sizeof(note),
                     "; ICP refinement rejected: only %d of the %d correspondences that support "
                     "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
