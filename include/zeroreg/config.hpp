@@ -312,6 +312,11 @@ struct RefineConfig {
   // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict"). Applied only
   // when the check accepted the estimate; an estimate it refused leaves ICP to the check alone.
   double min_kept_inlier_fraction = 0.5;
+  // true: an object-level estimate the check refuses is refined (and checked again) before the
+  // whole-image fallback is tried; when the fallback is tried after all, its estimate is refined
+  // too before the two are compared. false: only the returned estimate is refined (as before the
+  // thirteenth session). docs/CONFIG.md, "The verdict".
+  bool before_fallback = true;
   double anchor_weight_fine = 0.0;
   // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
   // at every iterate (a Gaussian maximum-likelihood fit of both), instead of the fixed shares
