@@ -504,6 +504,16 @@ struct HypothesesConfig {
   // matching per object-path pair. On in configs/paper.json: on hololens-gap5 87 -> 92 the paper
   // profile's object path was valid but 21.6 deg off (BENCHMARKS.md, "The paper profile").
   bool image_rival = false;
+  // true: where the check finds the object path's valid estimate degenerate (a wall, a floor, a
+  // corridor: VerificationResult::degenerate), it is also checked against the whole-image one, as
+  // image_rival does for every object-path estimate. There the check cannot judge the open motion
+  // and only the correspondences fix it, so if the whole-image estimate is valid, lies more than
+  // refine.max_distance_m (ICP's fine gate) from it in RMS displacement and more correspondences
+  // support it than support the object estimate (a few objects' worth), it replaces it. On
+  // hololens-gap5 250 -> 255 one object's 33 inliers left a wall pair 17 cm / 2.9 deg off,
+  // valid; the whole image's estimate was 3 cm / 0.4 deg (docs/CONFIG.md). Costs one whole-image
+  // matching per degenerate object-path pair.
+  bool image_rival_degenerate = true;
 };
 
 struct PipelineConfig {

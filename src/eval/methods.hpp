@@ -106,8 +106,8 @@ nlohmann::json FeatureBaselineConfigToJson(const FeatureBaselineConfig& config);
 std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m, double max_depth_m);
 
 // Config overrides ("section.key=value") that select the whole-image feature path of the
-// Pipeline (MethodConfig::object_level = false). --method image fails loudly if a result reports
-// another path, so a renamed switch cannot silently evaluate the wrong method.
+// Pipeline (MethodConfig::object_level = false, no extra hypotheses). --method image fails loudly
+// if a result reports another path, so a renamed switch cannot silently evaluate the wrong method.
 std::vector<std::string> ImagePathOverrides();
 
 // The pipeline config a method runs with: `config`, plus ImagePathOverrides() for "image".

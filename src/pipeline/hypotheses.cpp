@@ -60,10 +60,22 @@ double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationRe
   return n == 0 ? 0.0 : std::sqrt(sum / static_cast<double>(n));
 }
 
+double PointDisplacementRms(const std::vector<Eigen::Vector3d>& points, const Transform& a,
+                            const Transform& b) {
+  if (points.empty()) return 0.0;
+  double sum = 0.0;
+  for (const Eigen::Vector3d& p : points) {
+    sum += ((a * p.homogeneous()).head<3>() - (b * p.homogeneous()).head<3>()).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(points.size()));
+}
+
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
                      const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
                      RegistrationResult* result) {
-  if (!config.hypotheses.image_rival || !config.verify.enabled || !result->valid ||
+  const bool degenerate =
+      config.hypotheses.image_rival_degenerate && result->verification.degenerate;
+  if (!(config.hypotheses.image_rival || degenerate) || !config.verify.enabled || !result->valid ||
       result->path != "object" || !inputs.whole_image) {
     return false;
   }
@@ -81,14 +93,37 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   char object_summary[120];
   std::snprintf(object_summary, sizeof(object_summary), "%s: score %.3f", result->path.c_str(),
                 result->verification.score);
-  if (rival.valid && disagree && rival.verification.score > result->verification.score) {
+  // Degenerate geometry: the check cannot see the open motion, the correspondences fix it, and
+  // the estimate more of them support wins where the two differ by more than ICP's final gate
+  // over the source scan's surface (closer, they are the same answer and the object path keeps
+  // it). Over the correspondences alone they can look alike: on hololens-gap5 250 -> 255 the two
+  // lay 3 cm apart at one object's correspondences and 2.5 deg / 14 cm apart at the camera.
+  const double apart_surface_m =
+      PointDisplacementRms(inputs.source_points, result->T_target_source, rival.T_target_source);
+  const bool better_supported = degenerate && rival.valid &&
+                                apart_surface_m > config.refine.max_distance_final_m &&
+                                rival.num_inliers > result->num_inliers;
+  char support[200];
+  std::snprintf(support, sizeof(support),
+                "; inliers %d (%s) against %d (image-rival), %.3f m RMS apart over the source "
+                "surface",
+                result->num_inliers, result->path.c_str(), rival.num_inliers, apart_surface_m);
+  if (config.hypotheses.image_rival && rival.valid && disagree &&
+      rival.verification.score > result->verification.score) {
     Adopt(std::move(rival), result);
     result->reason += std::string(
                           " [the object path's estimate disagreed with the whole-image one "
                           "and scored lower: ") +
                       object_summary + "; " + line + "; chosen: image-rival]";
+  } else if (better_supported) {
+    Adopt(std::move(rival), result);
+    result->reason += std::string(
+                          " [degenerate geometry: the whole-image estimate is supported by more "
+                          "correspondences: ") +
+                      object_summary + "; " + line + support + "; chosen: image-rival]";
   } else {
-    result->reason += std::string(" [checked against the whole-image estimate: ") + line + "]";
+    result->reason += std::string(" [checked against the whole-image estimate: ") + line +
+                      (degenerate ? support : "") + "]";
   }
   result->candidates = std::move(all);
   return true;

@@ -34,6 +34,9 @@ struct HypothesisInputs {
   std::function<std::vector<Correspondence>()> whole_image;
   // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
   bool whole_image_tried = false;
+  // Points of the source scan (in its frame) over which two estimates are compared in degenerate
+  // geometry (hypotheses.image_rival_degenerate); the check's surface samples.
+  std::vector<Eigen::Vector3d> source_points;
 };
 
 // Whether the extra sources run for this result (hypotheses.enabled, verification on, and the
@@ -53,7 +56,10 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 // correspondences (inputs.whole_image) with `effective` (the method's own estimator) and lets that
 // estimate replace *result when it is valid, disagrees with it (EstimateDisplacementRms above
 // refine.max_distance_coarse_m) and scores higher. Its candidates are appended to
-// result->candidates and the reason says what the rival scored. Returns whether it ran (the
+// result->candidates and the reason says what the rival scored. hypotheses.image_rival_degenerate:
+// the same check for an object-path estimate the check found degenerate, where the rival
+// replaces it when valid, supported by more inlier correspondences and more than
+// refine.max_distance_final_m apart over inputs.source_points. Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
 // image-rival".
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
@@ -63,6 +69,10 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
 // RMS distance (metres) between where the two transforms put the source points of both results'
 // correspondences; 0 when neither has any.
 double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b);
+
+// RMS distance (metres) between where a and b put `points`; 0 when there are none.
+double PointDisplacementRms(const std::vector<Eigen::Vector3d>& points, const Transform& a,
+                            const Transform& b);
 
 // (c) alone: FPFH correspondences between the two scans' geometry (exposed for tests).
 std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Scan& target,

@@ -231,6 +231,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
   v("refuse_degenerate", c.refuse_degenerate);
   v("image_rival", c.image_rival);
+  v("image_rival_degenerate", c.image_rival_degenerate);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {

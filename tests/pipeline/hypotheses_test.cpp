@@ -274,6 +274,88 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   EXPECT_FALSE(ran);
 }
 
+// hypotheses.image_rival_degenerate (on by default, image_rival off): where the check found the
+// object estimate degenerate, the whole-image estimate replaces it when valid, supported by more
+// inliers and more than ICP's final gate apart over the source surface.
+TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
+  const PipelineConfig config;  // the defaults
+  ASSERT_FALSE(config.hypotheses.image_rival);
+  ASSERT_TRUE(config.hypotheses.image_rival_degenerate);
+  const double gate = config.refine.max_distance_final_m;  // 0.02 m
+  RegistrationResult object;
+  object.valid = true;
+  object.path = "object";
+  object.num_inliers = 33;
+  object.verification.degenerate = true;
+  object.verification.score = 0.537;
+  struct Rival {
+    bool valid;
+    double offset_m;
+    int inliers;
+  };
+  const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start, Rival rival,
+                       bool* ran) {
+    HypothesisInputs inputs;
+    inputs.whole_image = [] { return std::vector<Correspondence>(5); };
+    inputs.source_points = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2)};
+    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence>,
+                              const PipelineConfig&) {
+      RegistrationResult r;
+      r.path = path;
+      r.valid = rival.valid;
+      r.count_test_passed = true;
+      r.num_inliers = rival.inliers;
+      r.verification.score = 0.535;  // the check cannot tell them apart
+      r.T_target_source =
+          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0, 0));
+      return r;
+    };
+    RegistrationResult out = start;
+    StageTimer timer;
+    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
+    return out;
+  };
+  bool ran = false;
+  RegistrationResult r = run(config, object, {true, 3 * gate, 330}, &ran);
+  EXPECT_TRUE(ran);
+  EXPECT_EQ(r.path, "image-rival");
+  EXPECT_NE(r.reason.find("degenerate geometry"), std::string::npos) << r.reason;
+  // Within the final gate (the same answer), fewer inliers, or not valid: the object path stays.
+  for (const Rival& rival :
+       {Rival{true, 0.5 * gate, 330}, Rival{true, 3 * gate, 20}, Rival{false, 3 * gate, 330}}) {
+    r = run(config, object, rival, &ran);
+    EXPECT_TRUE(ran);
+    EXPECT_EQ(r.path, "object") << rival.offset_m << " " << rival.inliers;
+  }
+  // Not run where the geometry is not degenerate, or with the switch off.
+  RegistrationResult constrained = object;
+  constrained.verification.degenerate = false;
+  run(config, constrained, {true, 3 * gate, 330}, &ran);
+  EXPECT_FALSE(ran);
+  PipelineConfig off = config;
+  off.hypotheses.image_rival_degenerate = false;
+  run(off, object, {true, 3 * gate, 330}, &ran);
+  EXPECT_FALSE(ran);
+}
+
+// hololens-gap5 250 -> 255, a wall pair: one object's 33 inliers left the object estimate valid
+// but 2.9 deg / 17 cm off; the whole image's 330 inliers fix the open motion.
+TEST(ImageRival, RealDegeneratePairTakesTheWholeImageEstimate) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office";
+  const Scan source = LoadScan(dir + "@255"), target = LoadScan(dir + "@250");
+  const Transform gt = GroundTruth(source, target);
+  const RegistrationResult r = Register(source, target, PipelineConfig());
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_EQ(r.path, "image-rival") << r.reason;
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 1.0) << r.reason;
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.05) << r.reason;
+  PipelineConfig off;
+  off.hypotheses.image_rival_degenerate = false;
+  const RegistrationResult object = Register(source, target, off);
+  EXPECT_EQ(object.path, "object") << object.reason;
+  EXPECT_TRUE(object.verification.degenerate) << "the pair no longer tests degenerate geometry";
+}
+
 TEST(ImageRival, RealPairAgreeingEstimatesKeepTheObjectPath) {
   // The demo pair (20 -> 0): the object path and the whole image both register it right, so they
   // agree and the method's own estimate stays; the rival is listed among the candidates.
