@@ -508,8 +508,10 @@ struct HypothesesConfig {
   // corridor: VerificationResult::degenerate), it is also checked against the whole-image one, as
   // image_rival does for every object-path estimate. There the check cannot judge the open motion
   // and only the correspondences fix it, so if the whole-image estimate is valid, lies more than
-  // refine.max_distance_m (ICP's fine gate) from it in RMS displacement and more correspondences
-  // support it than support the object estimate (a few objects' worth), it replaces it. On
+  // refine.max_distance_final_m (ICP's final gate) from it in RMS displacement over the source
+  // scan's surface samples and more correspondences support it than support the object estimate
+  // (a few objects' worth), it replaces it; the check's score is not asked, since it cannot tell
+  // the two apart there. Off with hypotheses.enabled = false, like the other sources. On
   // hololens-gap5 250 -> 255 one object's 33 inliers left a wall pair 17 cm / 2.9 deg off,
   // valid; the whole image's estimate was 3 cm / 0.4 deg (docs/CONFIG.md). Costs one whole-image
   // matching per degenerate object-path pair.

@@ -73,8 +73,8 @@ double PointDisplacementRms(const std::vector<Eigen::Vector3d>& points, const Tr
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
                      const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
                      RegistrationResult* result) {
-  const bool degenerate =
-      config.hypotheses.image_rival_degenerate && result->verification.degenerate;
+  const bool degenerate = config.hypotheses.enabled && config.hypotheses.image_rival_degenerate &&
+                          result->verification.degenerate;
   if (!(config.hypotheses.image_rival || degenerate) || !config.verify.enabled || !result->valid ||
       result->path != "object" || !inputs.whole_image) {
     return false;

@@ -541,7 +541,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
       fallback_refined = true;
     }
     // Neither passed: the judge is the same check, so the estimate the scans agree with more is
-    // returned (still invalid; ICP below may yet make it pass). Both candidates are listed.
+    // returned (still invalid; ICP below may yet make it pass unless both were refined already).
+    // Both candidates are listed.
     const bool object_better =
         config.verify.enabled && !fallback.valid && result.count_test_passed &&
         (!fallback.count_test_passed || result.verification.score > fallback.verification.score);

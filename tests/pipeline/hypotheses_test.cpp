@@ -336,6 +336,10 @@ TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
   off.hypotheses.image_rival_degenerate = false;
   run(off, object, {true, 3 * gate, 330}, &ran);
   EXPECT_FALSE(ran);
+  PipelineConfig no_hypotheses = config;  // the paper's flow alone
+  no_hypotheses.hypotheses.enabled = false;
+  run(no_hypotheses, object, {true, 3 * gate, 330}, &ran);
+  EXPECT_FALSE(ran);
 }
 
 // hololens-gap5 250 -> 255, a wall pair: one object's 33 inliers left the object estimate valid

@@ -222,6 +222,8 @@ TEST(RegisterReal, IcpFromARefusedEstimateIsJudgedByTheCheckAlone) {
   const RegistrationResult without_test = Register(source, target, lenient);
   EXPECT_EQ(with_test.T_target_source, without_test.T_target_source)
       << "the evidence test should not apply to an estimate the check refused";
+  EXPECT_TRUE(with_test.valid) << with_test.reason;
+  EXPECT_LT(RotationErrorDeg(with_test.T_target_source, gt), 5.0) << with_test.reason;
 }
 
 // redkitchen-gap60 200 -> 260: RANSAC inside the matched objects lands 7.6 deg / 14 cm off and the
