@@ -516,6 +516,18 @@ struct HypothesesConfig {
   // valid; the whole image's estimate was 3 cm / 0.4 deg (docs/CONFIG.md). Costs one whole-image
   // matching per degenerate object-path pair.
   bool image_rival_degenerate = true;
+  // true: an object-path estimate the check refused, which passed only after ICP moved it
+  // (refine.before_fallback), is also checked against the whole-image one, as image_rival does
+  // for every object-path estimate. Its own correspondences did not make the scans agree, so the
+  // estimate rests on ICP's basin, which one or a few objects' worth of correspondences place
+  // less surely than the whole image's. If the whole-image estimate is valid, scores higher and
+  // lies more than refine.max_distance_final_m from it in RMS displacement over the source
+  // scan's surface samples (closer, they are the same answer and the object path keeps it), it
+  // replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object estimate to
+  // 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
+  // 0.6 deg / 2.5 cm (score 0.485). Off with hypotheses.enabled = false. Costs one whole-image
+  // matching per rescued object-path pair.
+  bool image_rival_rescued = true;
 };
 
 struct PipelineConfig {

@@ -75,8 +75,10 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                      RegistrationResult* result) {
   const bool degenerate = config.hypotheses.enabled && config.hypotheses.image_rival_degenerate &&
                           result->verification.degenerate;
-  if (!(config.hypotheses.image_rival || degenerate) || !config.verify.enabled || !result->valid ||
-      result->path != "object" || !inputs.whole_image) {
+  const bool rescued = config.hypotheses.enabled && config.hypotheses.image_rival_rescued &&
+                       inputs.object_rescued_by_icp;
+  if (!(config.hypotheses.image_rival || degenerate || rescued) || !config.verify.enabled ||
+      !result->valid || result->path != "object" || !inputs.whole_image) {
     return false;
   }
   timer.Restart();
@@ -103,6 +105,11 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   const bool better_supported = degenerate && rival.valid &&
                                 apart_surface_m > config.refine.max_distance_final_m &&
                                 rival.num_inliers > result->num_inliers;
+  // Rescued by ICP: the object's correspondences did not make the scans agree, so nothing but
+  // the check speaks for the estimate, and the check picks between the two where they differ.
+  const bool better_scored = rescued && !degenerate && rival.valid &&
+                             apart_surface_m > config.refine.max_distance_final_m &&
+                             rival.verification.score > result->verification.score;
   char support[200];
   std::snprintf(support, sizeof(support),
                 "; inliers %d (%s) against %d (image-rival), %.3f m RMS apart over the source "
@@ -121,9 +128,15 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                           " [degenerate geometry: the whole-image estimate is supported by more "
                           "correspondences: ") +
                       object_summary + "; " + line + support + "; chosen: image-rival]";
+  } else if (better_scored) {
+    Adopt(std::move(rival), result);
+    result->reason += std::string(
+                          " [the object path's estimate passed the check only after ICP, and the "
+                          "whole-image estimate scores higher: ") +
+                      object_summary + "; " + line + support + "; chosen: image-rival]";
   } else {
     result->reason += std::string(" [checked against the whole-image estimate: ") + line +
-                      (degenerate ? support : "") + "]";
+                      (degenerate || rescued ? support : "") + "]";
   }
   result->candidates = std::move(all);
   return true;

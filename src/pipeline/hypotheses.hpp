@@ -37,6 +37,9 @@ struct HypothesisInputs {
   // Points of the source scan (in its frame) over which two estimates are compared in degenerate
   // geometry (hypotheses.image_rival_degenerate); the check's surface samples.
   std::vector<Eigen::Vector3d> source_points;
+  // The object path's estimate was refused by the check and passed only after ICP
+  // (hypotheses.image_rival_rescued).
+  bool object_rescued_by_icp = false;
 };
 
 // Whether the extra sources run for this result (hypotheses.enabled, verification on, and the
@@ -59,7 +62,10 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 // result->candidates and the reason says what the rival scored. hypotheses.image_rival_degenerate:
 // the same check for an object-path estimate the check found degenerate, where the rival
 // replaces it when valid, supported by more inlier correspondences and more than
-// refine.max_distance_final_m apart over inputs.source_points. Returns whether it ran (the
+// refine.max_distance_final_m apart over inputs.source_points. hypotheses.image_rival_rescued: the
+// same check for an object-path estimate only ICP made valid (inputs.object_rescued_by_icp), where
+// the rival replaces it when valid, scoring higher and more than refine.max_distance_final_m apart
+// over inputs.source_points. Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
 // image-rival".
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,

@@ -18,8 +18,8 @@ CorrespondenceSet ImageCorrespondenceSource::Find(
     const std::shared_ptr<const PerceivedScan>& target, StageTimer& timer) const {
   CorrespondenceSet result;
   timer.Restart();
-  MatchWholeImages(source->view_features, target->view_features, matcher_, view_pairs_,
-                   threads_, &result.correspondences);
+  MatchWholeImages(source->view_features, target->view_features, matcher_, view_pairs_, threads_,
+                   &result.correspondences);
   timer.Mark("match");
   return result;
 }

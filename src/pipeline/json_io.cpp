@@ -232,6 +232,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("refuse_degenerate", c.refuse_degenerate);
   v("image_rival", c.image_rival);
   v("image_rival_degenerate", c.image_rival_degenerate);
+  v("image_rival_rescued", c.image_rival_rescued);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {

@@ -517,6 +517,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     Refine(source, target, effective, &result);
     timer.Mark("refine");
     refined = true;
+    // Only ICP made it pass: the whole-image estimate is its rival (image_rival_rescued).
+    more.object_rescued_by_icp = result.valid && result.path == "object";
   }
   // §3.4 found too little inside the matched objects: match the whole images instead (the
   // features are already extracted) and keep whichever estimate is valid.
@@ -571,7 +573,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     return r;
   };
   // A valid object-path estimate against the whole-image one (hypotheses.image_rival).
-  if (config.hypotheses.image_rival_degenerate && result.verification.degenerate) {
+  if ((config.hypotheses.image_rival_degenerate && result.verification.degenerate) ||
+      (config.hypotheses.image_rival_rescued && more.object_rescued_by_icp)) {
     for (const SurfacePoint& p : source.surface) more.source_points.push_back(p.point);
   }
   if (JudgeImageRival(config, effective, more, judge, timer, &result)) {

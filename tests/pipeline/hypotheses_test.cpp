@@ -360,6 +360,91 @@ TEST(ImageRival, RealDegeneratePairTakesTheWholeImageEstimate) {
   EXPECT_TRUE(object.verification.degenerate) << "the pair no longer tests degenerate geometry";
 }
 
+// hypotheses.image_rival_rescued (on by default): an object estimate the check passed only after
+// ICP gives way to a valid whole-image estimate that scores higher and lies more than ICP's final
+// gate away over the source surface.
+TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
+  const PipelineConfig config;  // the defaults
+  ASSERT_FALSE(config.hypotheses.image_rival);
+  ASSERT_TRUE(config.hypotheses.image_rival_rescued);
+  const double gate = config.refine.max_distance_final_m;  // 0.02 m
+  RegistrationResult object;
+  object.valid = true;
+  object.path = "object";
+  object.num_inliers = 7;
+  object.verification.score = 0.316;
+  struct Rival {
+    bool valid;
+    double offset_m;
+    double score;
+  };
+  const auto run = [&](const PipelineConfig& cfg, bool rescued, Rival rival, bool* ran) {
+    HypothesisInputs inputs;
+    inputs.whole_image = [] { return std::vector<Correspondence>(5); };
+    inputs.source_points = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2)};
+    inputs.object_rescued_by_icp = rescued;
+    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence>,
+                              const PipelineConfig&) {
+      RegistrationResult r;
+      r.path = path;
+      r.valid = rival.valid;
+      r.count_test_passed = true;
+      r.num_inliers = 38;
+      r.verification.score = rival.score;
+      r.T_target_source =
+          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0, 0));
+      return r;
+    };
+    RegistrationResult out = object;
+    StageTimer timer;
+    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
+    return out;
+  };
+  bool ran = false;
+  RegistrationResult r = run(config, true, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_TRUE(ran);
+  EXPECT_EQ(r.path, "image-rival");
+  EXPECT_NE(r.reason.find("passed the check only after ICP"), std::string::npos) << r.reason;
+  // The same answer (within the final gate), a lower score, or not valid: the object path stays.
+  for (const Rival& rival : {Rival{true, 0.5 * gate, 0.484}, Rival{true, 3 * gate, 0.30},
+                             Rival{false, 3 * gate, 0.484}}) {
+    r = run(config, true, rival, &ran);
+    EXPECT_TRUE(ran);
+    EXPECT_EQ(r.path, "object") << rival.offset_m << " " << rival.score;
+  }
+  // Not run for an estimate valid before ICP, with the switch off, or without the extra sources.
+  run(config, false, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_FALSE(ran);
+  PipelineConfig off = config;
+  off.hypotheses.image_rival_rescued = false;
+  run(off, true, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_FALSE(ran);
+  PipelineConfig no_hypotheses = config;
+  no_hypotheses.hypotheses.enabled = false;
+  run(no_hypotheses, true, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_FALSE(ran);
+}
+
+// hololens-cross 31 -> 194: ICP rescued a 32-correspondence object estimate to 2.2 deg / 5.1 cm
+// (score 0.316); the whole image's estimate is 0.6 deg / 2.5 cm and scores 0.484.
+TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office";
+  const Scan source = LoadScan(dir + "@194"), target = LoadScan(dir + "@31");
+  const Transform gt = GroundTruth(source, target);
+  const RegistrationResult r = Register(source, target, PipelineConfig());
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_EQ(r.path, "image-rival") << r.reason;
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 1.0) << r.reason;
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.04) << r.reason;
+  PipelineConfig off;
+  off.hypotheses.image_rival_rescued = false;
+  const RegistrationResult object = Register(source, target, off);
+  EXPECT_EQ(object.path, "object") << object.reason;
+  EXPECT_NE(object.reason.find("refined by ICP"), std::string::npos) << object.reason;
+  EXPECT_GT(RotationErrorDeg(object.T_target_source, gt), 1.5)
+      << "the pair no longer tests a rescued estimate worse than the whole image's";
+}
+
 TEST(ImageRival, RealPairAgreeingEstimatesKeepTheObjectPath) {
   // The demo pair (20 -> 0): the object path and the whole image both register it right, so they
   // agree and the method's own estimate stays; the rival is listed among the candidates.
