@@ -525,8 +525,10 @@ struct HypothesesConfig {
   // scan's surface samples (closer, they are the same answer and the object path keeps it), it
   // replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object estimate to
   // 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
-  // 0.6 deg / 2.5 cm (score 0.485). Off with hypotheses.enabled = false. Costs one whole-image
-  // matching per rescued object-path pair.
+  // 0.6 deg / 2.5 cm (score 0.484). Where the check finds the geometry degenerate the score
+  // cannot decide and this rule stands aside (image_rival_degenerate judges by inliers there).
+  // Off with hypotheses.enabled = false. Costs one whole-image matching, estimate and ICP per
+  // rescued object-path pair.
   bool image_rival_rescued = true;
 };
 

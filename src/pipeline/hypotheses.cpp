@@ -107,7 +107,9 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                                 rival.num_inliers > result->num_inliers;
   // Rescued by ICP: the object's correspondences did not make the scans agree, so nothing but
   // the check speaks for the estimate, and the check picks between the two where they differ.
-  const bool better_scored = rescued && !degenerate && rival.valid &&
+  // In degenerate geometry the score cannot tell the two apart: that case is the degenerate
+  // rule's (by inliers), or, with that rule off, the object path keeps it.
+  const bool better_scored = rescued && !result->verification.degenerate && rival.valid &&
                              apart_surface_m > config.refine.max_distance_final_m &&
                              rival.verification.score > result->verification.score;
   char support[200];

@@ -35,7 +35,8 @@ struct HypothesisInputs {
   // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
   bool whole_image_tried = false;
   // Points of the source scan (in its frame) over which two estimates are compared in degenerate
-  // geometry (hypotheses.image_rival_degenerate); the check's surface samples.
+  // geometry or for a rescued estimate (hypotheses.image_rival_degenerate / _rescued); the
+  // check's surface samples.
   std::vector<Eigen::Vector3d> source_points;
   // The object path's estimate was refused by the check and passed only after ICP
   // (hypotheses.image_rival_rescued).
@@ -65,7 +66,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 // refine.max_distance_final_m apart over inputs.source_points. hypotheses.image_rival_rescued: the
 // same check for an object-path estimate only ICP made valid (inputs.object_rescued_by_icp), where
 // the rival replaces it when valid, scoring higher and more than refine.max_distance_final_m apart
-// over inputs.source_points. Returns whether it ran (the
+// over inputs.source_points, unless the check found the geometry degenerate (then only the
+// degenerate rule can replace it). Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
 // image-rival".
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,

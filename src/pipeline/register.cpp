@@ -573,8 +573,9 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     return r;
   };
   // A valid object-path estimate against the whole-image one (hypotheses.image_rival).
-  if ((config.hypotheses.image_rival_degenerate && result.verification.degenerate) ||
-      (config.hypotheses.image_rival_rescued && more.object_rescued_by_icp)) {
+  if (config.hypotheses.enabled &&
+      ((config.hypotheses.image_rival_degenerate && result.verification.degenerate) ||
+       (config.hypotheses.image_rival_rescued && more.object_rescued_by_icp))) {
     for (const SurfacePoint& p : source.surface) more.source_points.push_back(p.point);
   }
   if (JudgeImageRival(config, effective, more, judge, timer, &result)) {

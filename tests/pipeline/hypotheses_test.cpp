@@ -412,6 +412,18 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
     EXPECT_TRUE(ran);
     EXPECT_EQ(r.path, "object") << rival.offset_m << " " << rival.score;
   }
+  // Degenerate geometry: the score cannot decide, so the rescued rule stands aside, also with the
+  // degenerate rule off (that rule judges by inliers, and 38 > 7 here).
+  object.verification.degenerate = true;
+  PipelineConfig only_rescued = config;
+  only_rescued.hypotheses.image_rival_degenerate = false;
+  r = run(only_rescued, true, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_TRUE(ran);
+  EXPECT_EQ(r.path, "object") << r.reason;
+  r = run(config, true, {true, 3 * gate, 0.484}, &ran);
+  EXPECT_EQ(r.path, "image-rival");
+  EXPECT_NE(r.reason.find("degenerate geometry"), std::string::npos) << r.reason;
+  object.verification.degenerate = false;
   // Not run for an estimate valid before ICP, with the switch off, or without the extra sources.
   run(config, false, {true, 3 * gate, 0.484}, &ran);
   EXPECT_FALSE(ran);
@@ -434,6 +446,7 @@ TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   const RegistrationResult r = Register(source, target, PipelineConfig());
   ASSERT_TRUE(r.valid) << r.reason;
   EXPECT_EQ(r.path, "image-rival") << r.reason;
+  EXPECT_NE(r.reason.find("passed the check only after ICP"), std::string::npos) << r.reason;
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 1.0) << r.reason;
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.04) << r.reason;
   PipelineConfig off;
@@ -441,6 +454,7 @@ TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   const RegistrationResult object = Register(source, target, off);
   EXPECT_EQ(object.path, "object") << object.reason;
   EXPECT_NE(object.reason.find("refined by ICP"), std::string::npos) << object.reason;
+  EXPECT_FALSE(object.verification.degenerate) << "the pair now tests the degenerate rule";
   EXPECT_GT(RotationErrorDeg(object.T_target_source, gt), 1.5)
       << "the pair no longer tests a rescued estimate worse than the whole image's";
 }
