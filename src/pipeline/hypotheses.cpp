@@ -117,28 +117,28 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                 "; inliers %d (%s) against %d (image-rival), %.3f m RMS apart over the source "
                 "surface",
                 result->num_inliers, result->path.c_str(), rival.num_inliers, apart_surface_m);
+  // Which rule, if any, lets the rival win, and what the reason says of it (the surface support
+  // figures only where the degenerate or rescued rule was asked).
+  std::string asked_support = degenerate || rescued ? support : "";
+  const char* why = nullptr;
   if (config.hypotheses.image_rival && rival.valid && disagree &&
       rival.verification.score > result->verification.score) {
-    Adopt(std::move(rival), result);
-    result->reason += std::string(
-                          " [the object path's estimate disagreed with the whole-image one "
-                          "and scored lower: ") +
-                      object_summary + "; " + line + "; chosen: image-rival]";
+    why = "the object path's estimate disagreed with the whole-image one and scored lower";
+    asked_support.clear();  // decided by the score and the correspondences' distance alone
   } else if (better_supported) {
-    Adopt(std::move(rival), result);
-    result->reason += std::string(
-                          " [degenerate geometry: the whole-image estimate is supported by more "
-                          "correspondences: ") +
-                      object_summary + "; " + line + support + "; chosen: image-rival]";
+    why = "degenerate geometry: the whole-image estimate is supported by more correspondences";
   } else if (better_scored) {
+    why =
+        "the object path's estimate passed the check only after ICP, and the whole-image "
+        "estimate scores higher";
+  }
+  if (why != nullptr) {
     Adopt(std::move(rival), result);
-    result->reason += std::string(
-                          " [the object path's estimate passed the check only after ICP, and the "
-                          "whole-image estimate scores higher: ") +
-                      object_summary + "; " + line + support + "; chosen: image-rival]";
+    result->reason += std::string(" [") + why + ": " + object_summary + "; " + line +
+                      asked_support + "; chosen: image-rival]";
   } else {
-    result->reason += std::string(" [checked against the whole-image estimate: ") + line +
-                      (degenerate || rescued ? support : "") + "]";
+    result->reason +=
+        std::string(" [checked against the whole-image estimate: ") + line + asked_support + "]";
   }
   result->candidates = std::move(all);
   return true;
