@@ -25,6 +25,12 @@ constexpr const char* kSettings[][2] = {
     {"glibc.malloc.hugetlb", "1"},                // madvise(MADV_HUGEPAGE) on malloc's memory
     {"glibc.malloc.mmap_threshold", "33554432"},  // blocks < 32 MiB from the heap, reused
     {"glibc.malloc.top_pad", "67108864"},         // grow the heap 64 MiB at a time
+    // At most two heaps (glibc's default: 8 per core). Each thread that allocates otherwise gets
+    // a heap of its own (ONNX Runtime's pool, the two scans' perception, eval's runners), and a
+    // long-lived block (a prepared scan that eval keeps) pins free space around it in every one:
+    // eval's peak RSS was 1.7x what its prepared scans hold. The heavy allocating work runs at
+    // most two ways at once (RunBoth), so two heaps cost no measurable lock wait (docs/SPEED.md).
+    {"glibc.malloc.arena_max", "2"},
 };
 
 bool IsVariable(const char* entry, const char* name) {

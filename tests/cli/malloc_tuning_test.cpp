@@ -40,7 +40,7 @@ TEST(TunedEnvironment, AddsTheTunablesAndTheMarkerAndKeepsEverythingElse) {
   EXPECT_EQ(env[1], "PATH=/bin");
   EXPECT_EQ(env[2],
             "GLIBC_TUNABLES=glibc.malloc.hugetlb=1:glibc.malloc.mmap_threshold=33554432:"
-            "glibc.malloc.top_pad=67108864");
+            "glibc.malloc.top_pad=67108864:glibc.malloc.arena_max=2");
   EXPECT_EQ(env[3], "ZEROREG_MALLOC_TUNING=applied");
 }
 
@@ -50,14 +50,14 @@ TEST(TunedEnvironment, KeepsTheUsersOwnTunables) {
   EXPECT_EQ(env[0], "A=1");
   EXPECT_EQ(env[1],
             "GLIBC_TUNABLES=glibc.malloc.top_pad=0:glibc.cpu.x86_shstk=on:glibc.malloc.hugetlb=1:"
-            "glibc.malloc.mmap_threshold=33554432");
+            "glibc.malloc.mmap_threshold=33554432:glibc.malloc.arena_max=2");
 }
 
 TEST(TunedEnvironment, NothingWhenSwitchedOffAppliedOrAllSetByTheUser) {
   EXPECT_TRUE(Tuned({"ZEROREG_MALLOC_TUNING=off"}).empty());
   EXPECT_TRUE(Tuned({"ZEROREG_MALLOC_TUNING=applied"}).empty());
   EXPECT_TRUE(Tuned({"GLIBC_TUNABLES=glibc.malloc.hugetlb=0:glibc.malloc.mmap_threshold=1:"
-                     "glibc.malloc.top_pad=0"})
+                     "glibc.malloc.top_pad=0:glibc.malloc.arena_max=8"})
                   .empty());
   // A variable whose name only starts like the switch is not the switch.
   EXPECT_EQ(Tuned({"ZEROREG_MALLOC_TUNING_X=off"}).size(), 3u);
@@ -104,7 +104,7 @@ class MallocTuning : public ::testing::Test {
 TEST_F(MallocTuning, ReachesTheCoreThroughTheLauncher) {
   EXPECT_EQ(InfoLine(),
             "malloc tuning: applied (GLIBC_TUNABLES=glibc.malloc.hugetlb=1:glibc.malloc.mmap_"
-            "threshold=33554432:glibc.malloc.top_pad=67108864)");
+            "threshold=33554432:glibc.malloc.top_pad=67108864:glibc.malloc.arena_max=2)");
 }
 
 TEST_F(MallocTuning, SwitchedOffAndUserSettingsKept) {
@@ -115,7 +115,7 @@ TEST_F(MallocTuning, SwitchedOffAndUserSettingsKept) {
   EnvironmentVariable user("GLIBC_TUNABLES", "glibc.malloc.top_pad=0");
   EXPECT_EQ(InfoLine(),
             "malloc tuning: applied (GLIBC_TUNABLES=glibc.malloc.top_pad=0:glibc.malloc.hugetlb=1:"
-            "glibc.malloc.mmap_threshold=33554432)");
+            "glibc.malloc.mmap_threshold=33554432:glibc.malloc.arena_max=2)");
 }
 
 TEST_F(MallocTuning, TheCoreRunDirectlyTunesItself) {
