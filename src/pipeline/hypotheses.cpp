@@ -60,14 +60,15 @@ double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationRe
   return n == 0 ? 0.0 : std::sqrt(sum / static_cast<double>(n));
 }
 
-double PointDisplacementRms(const std::vector<Eigen::Vector3d>& points, const Transform& a,
+double PointDisplacementRms(const std::vector<SurfacePoint>* surface, const Transform& a,
                             const Transform& b) {
-  if (points.empty()) return 0.0;
+  if (surface == nullptr || surface->empty()) return 0.0;
   double sum = 0.0;
-  for (const Eigen::Vector3d& p : points) {
+  for (const SurfacePoint& s : *surface) {
+    const Eigen::Vector3d& p = s.point;
     sum += ((a * p.homogeneous()).head<3>() - (b * p.homogeneous()).head<3>()).squaredNorm();
   }
-  return std::sqrt(sum / static_cast<double>(points.size()));
+  return std::sqrt(sum / static_cast<double>(surface->size()));
 }
 
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,
@@ -101,7 +102,7 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   // it). Over the correspondences alone they can look alike: on hololens-gap5 250 -> 255 the two
   // lay 3 cm apart at one object's correspondences and 2.5 deg / 14 cm apart at the camera.
   const double apart_surface_m =
-      PointDisplacementRms(inputs.source_points, result->T_target_source, rival.T_target_source);
+      PointDisplacementRms(inputs.source_surface, result->T_target_source, rival.T_target_source);
   const bool better_supported = degenerate && rival.valid &&
                                 apart_surface_m > config.refine.max_distance_final_m &&
                                 rival.num_inliers > result->num_inliers;

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "pipeline/stage_timer.hpp"
+#include "verify/verify.hpp"
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
 
@@ -34,10 +35,10 @@ struct HypothesisInputs {
   std::function<std::vector<Correspondence>()> whole_image;
   // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
   bool whole_image_tried = false;
-  // Points of the source scan (in its frame) over which two estimates are compared in degenerate
-  // geometry or for a rescued estimate (hypotheses.image_rival_degenerate / _rescued); the
-  // check's surface samples.
-  std::vector<Eigen::Vector3d> source_points;
+  // The source scan's surface samples (the check's, in its frame; owned by its prepared scan),
+  // over which two estimates are compared in degenerate geometry or for a rescued estimate
+  // (hypotheses.image_rival_degenerate / _rescued); null or empty: none.
+  const std::vector<SurfacePoint>* source_surface = nullptr;
   // The object path's estimate was refused by the check and passed only after ICP
   // (hypotheses.image_rival_rescued).
   bool object_rescued_by_icp = false;
@@ -63,10 +64,10 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 // result->candidates and the reason says what the rival scored. hypotheses.image_rival_degenerate:
 // the same check for an object-path estimate the check found degenerate, where the rival
 // replaces it when valid, supported by more inlier correspondences and more than
-// refine.max_distance_final_m apart over inputs.source_points. hypotheses.image_rival_rescued: the
+// refine.max_distance_final_m apart over inputs.source_surface. hypotheses.image_rival_rescued: the
 // same check for an object-path estimate only ICP made valid (inputs.object_rescued_by_icp), where
 // the rival replaces it when valid, scoring higher and more than refine.max_distance_final_m apart
-// over inputs.source_points, unless the check found the geometry degenerate (then only the
+// over inputs.source_surface, unless the check found the geometry degenerate (then only the
 // degenerate rule can replace it). Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
 // image-rival".
@@ -78,8 +79,9 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
 // correspondences; 0 when neither has any.
 double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b);
 
-// RMS distance (metres) between where a and b put `points`; 0 when there are none.
-double PointDisplacementRms(const std::vector<Eigen::Vector3d>& points, const Transform& a,
+// RMS distance (metres) between where a and b put the points of `surface`; 0 when it is null or
+// empty.
+double PointDisplacementRms(const std::vector<SurfacePoint>* surface, const Transform& a,
                             const Transform& b);
 
 // (c) alone: FPFH correspondences between the two scans' geometry (exposed for tests).

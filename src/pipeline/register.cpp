@@ -572,12 +572,9 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r);
     return r;
   };
-  // A valid object-path estimate against the whole-image one (hypotheses.image_rival).
-  if (config.hypotheses.enabled &&
-      ((config.hypotheses.image_rival_degenerate && result.verification.degenerate) ||
-       (config.hypotheses.image_rival_rescued && more.object_rescued_by_icp))) {
-    for (const SurfacePoint& p : source.surface) more.source_points.push_back(p.point);
-  }
+  // A valid object-path estimate against the whole-image one (hypotheses.image_rival and its
+  // degenerate and rescued forms, which compare the two over the source surface).
+  more.source_surface = &source.surface;
   if (JudgeImageRival(config, effective, more, judge, timer, &result)) {
     more.whole_image_tried = true;
   }

@@ -179,6 +179,59 @@ TEST(ImageRival, DisplacementRmsOverBothResultsPoints) {
   EXPECT_DOUBLE_EQ(EstimateDisplacementRms(RegistrationResult(), RegistrationResult()), 0.0);
 }
 
+// What a stand-in judge returns to JudgeImageRival as the whole-image estimate: valid or not,
+// its check score and inlier count, and a transform offset_m metres from the identity along x.
+struct StandInRival {
+  bool valid = true;
+  double offset_m = 0.0;
+  double score = 0.0;
+  int inliers = 0;
+};
+
+struct ImageRivalRun {
+  RegistrationResult result;
+  bool ran = false;           // the rule ran the rival
+  int whole_image_calls = 0;  // how often it asked for the whole-image correspondences
+};
+
+// JudgeImageRival on `start` with a stand-in judge that returns `rival` (its correspondences and
+// a candidate "<path> ransac" included), five whole-image correspondences at `c`, and two surface
+// samples of the source scan.
+ImageRivalRun RunImageRival(const PipelineConfig& config, const RegistrationResult& start,
+                            const StandInRival& rival, bool rescued_by_icp = false,
+                            const Correspondence& c = Correspondence()) {
+  ImageRivalRun run;
+  const std::vector<SurfacePoint> surface = {{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero()},
+                                             {Eigen::Vector3d(1, 0, 2), Eigen::Vector3d::Zero()}};
+  HypothesisInputs inputs;
+  inputs.whole_image = [&] {
+    ++run.whole_image_calls;
+    return std::vector<Correspondence>(5, c);
+  };
+  inputs.source_surface = &surface;
+  inputs.object_rescued_by_icp = rescued_by_icp;
+  const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found,
+                            const PipelineConfig&) {
+    RegistrationResult r;
+    r.path = path;
+    r.valid = rival.valid;
+    r.count_test_passed = true;
+    r.num_inliers = rival.inliers;
+    r.verification.score = rival.score;
+    r.correspondences = std::move(found);
+    r.T_target_source =
+        MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0.0, 0.0));
+    CandidateSummary candidate;
+    candidate.name = path + " ransac";
+    r.candidates.push_back(candidate);
+    return r;
+  };
+  run.result = start;
+  StageTimer timer;
+  run.ran = JudgeImageRival(config, config, inputs, judge, timer, &run.result);
+  return run;
+}
+
 // The rule of the judge, with a stand-in for estimation: a valid object-path estimate is replaced
 // only by a valid whole-image estimate that disagrees with it and scores higher.
 TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
@@ -197,44 +250,16 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   CandidateSummary own;
   own.name = "object ransac";
   object.candidates.push_back(own);
-
-  struct Rival {
-    bool valid;
-    double offset_m, score;
-  };
-  const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start, Rival rival,
-                       bool* ran) {
-    HypothesisInputs inputs;
-    int matched = 0;
-    inputs.whole_image = [&] {
-      ++matched;
-      return std::vector<Correspondence>(5, c);
-    };
-    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found,
-                              const PipelineConfig&) {
-      RegistrationResult r;
-      r.path = path;
-      r.valid = rival.valid;
-      r.count_test_passed = true;
-      r.verification.score = rival.score;
-      r.correspondences = std::move(found);
-      r.T_target_source =
-          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0.0, 0.0));
-      CandidateSummary cand;
-      cand.name = path + " ransac";
-      r.candidates.push_back(cand);
-      return r;
-    };
-    RegistrationResult out = start;
-    StageTimer timer;
-    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
-    EXPECT_EQ(matched, *ran ? 1 : 0);
+  const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start,
+                       StandInRival rival) {
+    ImageRivalRun out = RunImageRival(cfg, start, rival, false, c);
+    EXPECT_EQ(out.whole_image_calls, out.ran ? 1 : 0);
     return out;
   };
-  bool ran = false;
   // Valid, disagreeing, better: replaced, the scans' objects kept, both candidates listed.
-  RegistrationResult r = run(config, object, {true, 2 * gate, 0.47}, &ran);
-  EXPECT_TRUE(ran);
+  ImageRivalRun out = run(config, object, {true, 2 * gate, 0.47});
+  EXPECT_TRUE(out.ran);
+  RegistrationResult r = out.result;
   EXPECT_EQ(r.path, "image-rival");
   EXPECT_EQ(r.verification.score, 0.47);
   ASSERT_EQ(r.source_objects.size(), 1u);
@@ -244,10 +269,12 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   EXPECT_EQ(r.candidates[1].name, "image-rival ransac");
   EXPECT_NE(r.reason.find("chosen: image-rival"), std::string::npos) << r.reason;
   // Agreeing (within ICP's widest gate), lower-scoring, or not valid: the object path stays.
-  for (const Rival& rival :
-       {Rival{true, 0.5 * gate, 0.47}, Rival{true, 2 * gate, 0.30}, Rival{false, 2 * gate, 0.90}}) {
-    r = run(config, object, rival, &ran);
-    EXPECT_TRUE(ran);
+  for (const StandInRival& rival :
+       {StandInRival{true, 0.5 * gate, 0.47}, StandInRival{true, 2 * gate, 0.30},
+        StandInRival{false, 2 * gate, 0.90}}) {
+    out = run(config, object, rival);
+    EXPECT_TRUE(out.ran);
+    r = out.result;
     EXPECT_EQ(r.path, "object");
     EXPECT_EQ(r.verification.score, 0.35);
     EXPECT_EQ(r.candidates.size(), 2u);
@@ -257,21 +284,18 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   // Not run: switched off, an invalid estimate, the whole-image path, or no check.
   PipelineConfig off = config;
   off.hypotheses.image_rival = false;
-  r = run(off, object, {true, 2 * gate, 0.47}, &ran);
-  EXPECT_FALSE(ran);
-  EXPECT_EQ(r.path, "object");
+  out = run(off, object, {true, 2 * gate, 0.47});
+  EXPECT_FALSE(out.ran);
+  EXPECT_EQ(out.result.path, "object");
   RegistrationResult invalid = object;
   invalid.valid = false;
-  run(config, invalid, {true, 2 * gate, 0.47}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(run(config, invalid, {true, 2 * gate, 0.47}).ran);
   RegistrationResult image = object;
   image.path = "image-fallback";
-  run(config, image, {true, 2 * gate, 0.47}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(run(config, image, {true, 2 * gate, 0.47}).ran);
   PipelineConfig unchecked = config;
   unchecked.verify.enabled = false;
-  run(unchecked, object, {true, 2 * gate, 0.47}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(run(unchecked, object, {true, 2 * gate, 0.47}).ran);
 }
 
 // hypotheses.image_rival_degenerate (on by default, image_rival off): where the check found the
@@ -288,58 +312,31 @@ TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
   object.num_inliers = 33;
   object.verification.degenerate = true;
   object.verification.score = 0.537;
-  struct Rival {
-    bool valid;
-    double offset_m;
-    int inliers;
+  // The check cannot tell the two apart: the rival scores 0.535.
+  const auto rival = [](bool valid, double offset_m, int inliers) {
+    return StandInRival{valid, offset_m, 0.535, inliers};
   };
-  const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start, Rival rival,
-                       bool* ran) {
-    HypothesisInputs inputs;
-    inputs.whole_image = [] { return std::vector<Correspondence>(5); };
-    inputs.source_points = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2)};
-    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence>,
-                              const PipelineConfig&) {
-      RegistrationResult r;
-      r.path = path;
-      r.valid = rival.valid;
-      r.count_test_passed = true;
-      r.num_inliers = rival.inliers;
-      r.verification.score = 0.535;  // the check cannot tell them apart
-      r.T_target_source =
-          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0, 0));
-      return r;
-    };
-    RegistrationResult out = start;
-    StageTimer timer;
-    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
-    return out;
-  };
-  bool ran = false;
-  RegistrationResult r = run(config, object, {true, 3 * gate, 330}, &ran);
-  EXPECT_TRUE(ran);
-  EXPECT_EQ(r.path, "image-rival");
-  EXPECT_NE(r.reason.find("degenerate geometry"), std::string::npos) << r.reason;
+  ImageRivalRun out = RunImageRival(config, object, rival(true, 3 * gate, 330));
+  EXPECT_TRUE(out.ran);
+  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_NE(out.result.reason.find("degenerate geometry"), std::string::npos) << out.result.reason;
   // Within the final gate (the same answer), fewer inliers, or not valid: the object path stays.
-  for (const Rival& rival :
-       {Rival{true, 0.5 * gate, 330}, Rival{true, 3 * gate, 20}, Rival{false, 3 * gate, 330}}) {
-    r = run(config, object, rival, &ran);
-    EXPECT_TRUE(ran);
-    EXPECT_EQ(r.path, "object") << rival.offset_m << " " << rival.inliers;
+  for (const StandInRival& r :
+       {rival(true, 0.5 * gate, 330), rival(true, 3 * gate, 20), rival(false, 3 * gate, 330)}) {
+    out = RunImageRival(config, object, r);
+    EXPECT_TRUE(out.ran);
+    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.inliers;
   }
   // Not run where the geometry is not degenerate, or with the switch off.
   RegistrationResult constrained = object;
   constrained.verification.degenerate = false;
-  run(config, constrained, {true, 3 * gate, 330}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(config, constrained, rival(true, 3 * gate, 330)).ran);
   PipelineConfig off = config;
   off.hypotheses.image_rival_degenerate = false;
-  run(off, object, {true, 3 * gate, 330}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(off, object, rival(true, 3 * gate, 330)).ran);
   PipelineConfig no_hypotheses = config;  // the paper's flow alone
   no_hypotheses.hypotheses.enabled = false;
-  run(no_hypotheses, object, {true, 3 * gate, 330}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(no_hypotheses, object, rival(true, 3 * gate, 330)).ran);
 }
 
 // hololens-gap5 250 -> 255, a wall pair: one object's 33 inliers left the object estimate valid
@@ -373,68 +370,41 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
   object.path = "object";
   object.num_inliers = 7;
   object.verification.score = 0.316;
-  struct Rival {
-    bool valid;
-    double offset_m;
-    double score;
+  const auto rival = [](bool valid, double offset_m, double score) {
+    return StandInRival{valid, offset_m, score, 38};
   };
-  const auto run = [&](const PipelineConfig& cfg, bool rescued, Rival rival, bool* ran) {
-    HypothesisInputs inputs;
-    inputs.whole_image = [] { return std::vector<Correspondence>(5); };
-    inputs.source_points = {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 2)};
-    inputs.object_rescued_by_icp = rescued;
-    const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence>,
-                              const PipelineConfig&) {
-      RegistrationResult r;
-      r.path = path;
-      r.valid = rival.valid;
-      r.count_test_passed = true;
-      r.num_inliers = 38;
-      r.verification.score = rival.score;
-      r.T_target_source =
-          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0, 0));
-      return r;
-    };
-    RegistrationResult out = object;
-    StageTimer timer;
-    *ran = JudgeImageRival(cfg, cfg, inputs, judge, timer, &out);
-    return out;
-  };
-  bool ran = false;
-  RegistrationResult r = run(config, true, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_TRUE(ran);
-  EXPECT_EQ(r.path, "image-rival");
-  EXPECT_NE(r.reason.find("passed the check only after ICP"), std::string::npos) << r.reason;
+  ImageRivalRun out = RunImageRival(config, object, rival(true, 3 * gate, 0.484), true);
+  EXPECT_TRUE(out.ran);
+  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_NE(out.result.reason.find("passed the check only after ICP"), std::string::npos)
+      << out.result.reason;
   // The same answer (within the final gate), a lower score, or not valid: the object path stays.
-  for (const Rival& rival : {Rival{true, 0.5 * gate, 0.484}, Rival{true, 3 * gate, 0.30},
-                             Rival{false, 3 * gate, 0.484}}) {
-    r = run(config, true, rival, &ran);
-    EXPECT_TRUE(ran);
-    EXPECT_EQ(r.path, "object") << rival.offset_m << " " << rival.score;
+  for (const StandInRival& r : {rival(true, 0.5 * gate, 0.484), rival(true, 3 * gate, 0.30),
+                                rival(false, 3 * gate, 0.484)}) {
+    out = RunImageRival(config, object, r, true);
+    EXPECT_TRUE(out.ran);
+    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.score;
   }
   // Degenerate geometry: the score cannot decide, so the rescued rule stands aside, also with the
   // degenerate rule off (that rule judges by inliers, and 38 > 7 here).
   object.verification.degenerate = true;
   PipelineConfig only_rescued = config;
   only_rescued.hypotheses.image_rival_degenerate = false;
-  r = run(only_rescued, true, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_TRUE(ran);
-  EXPECT_EQ(r.path, "object") << r.reason;
-  r = run(config, true, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_EQ(r.path, "image-rival");
-  EXPECT_NE(r.reason.find("degenerate geometry"), std::string::npos) << r.reason;
+  out = RunImageRival(only_rescued, object, rival(true, 3 * gate, 0.484), true);
+  EXPECT_TRUE(out.ran);
+  EXPECT_EQ(out.result.path, "object") << out.result.reason;
+  out = RunImageRival(config, object, rival(true, 3 * gate, 0.484), true);
+  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_NE(out.result.reason.find("degenerate geometry"), std::string::npos) << out.result.reason;
   object.verification.degenerate = false;
   // Not run for an estimate valid before ICP, with the switch off, or without the extra sources.
-  run(config, false, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(config, object, rival(true, 3 * gate, 0.484), false).ran);
   PipelineConfig off = config;
   off.hypotheses.image_rival_rescued = false;
-  run(off, true, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(off, object, rival(true, 3 * gate, 0.484), true).ran);
   PipelineConfig no_hypotheses = config;
   no_hypotheses.hypotheses.enabled = false;
-  run(no_hypotheses, true, {true, 3 * gate, 0.484}, &ran);
-  EXPECT_FALSE(ran);
+  EXPECT_FALSE(RunImageRival(no_hypotheses, object, rival(true, 3 * gate, 0.484), true).ran);
 }
 
 // hololens-cross 31 -> 194: ICP rescued a 32-correspondence object estimate to 2.2 deg / 5.1 cm
