@@ -28,8 +28,9 @@ constexpr const char* kSettings[][2] = {
     // At most two heaps (glibc's default: 8 per core). Each thread that allocates otherwise gets
     // a heap of its own (ONNX Runtime's pool, the two scans' perception, eval's runners), and a
     // long-lived block (a prepared scan that eval keeps) pins free space around it in every one:
-    // eval's peak RSS was 1.7x what its prepared scans hold. The heavy allocating work runs at
-    // most two ways at once (RunBoth), so two heaps cost no measurable lock wait (docs/SPEED.md).
+    // eval over redkitchen-gap60 peaked at 822-950 MiB with 16 heaps, 530-544 MiB with two. The
+    // heavy allocating work runs at most two ways at once (RunBoth), so two heaps cost no
+    // measurable lock wait (docs/SPEED.md).
     {"glibc.malloc.arena_max", "2"},
 };
 
