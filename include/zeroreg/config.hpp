@@ -294,6 +294,11 @@ struct RefineConfig {
   //   fine:   voxel_m points, gate max_distance_m (the RANSAC inlier distance), max_iterations;
   //   final:  voxel_m points, gate max_distance_final_m (one voxel: only pairs that already
   //           agree, so fringe pairs no longer bias the fit), max_iterations.
+  // The views' depth pixels ICP starts from, before thinning to the stages' voxels: every
+  // pixel_stride-th pixel. 0 = follow the image size with twice verify.pixel_stride's columns
+  // (every other pixel at 640 and 540 px wide, every 4th at 1280; src/estimate/lift.hpp): a 2 cm
+  // voxel at 1 m is 12 Kinect pixels wide, so that still leaves several readings per voxel.
+  int pixel_stride = 0;
   double voxel_coarse_m = 0.05;
   double max_distance_coarse_m = 0.15;
   int coarse_iterations = 15;
@@ -343,7 +348,10 @@ struct VerifyConfig {
   // false: the verdict is RANSAC's count test alone (RansacConfig), as before issue 10.
   bool enabled = true;
   // Every pixel_stride-th depth pixel (in x and y) of each view is rendered into the other scan.
-  int pixel_stride = 4;
+  // 0 = follow the image size: at most 160 samples across a view (every 4th pixel at 640 and
+  // 540 px wide, every 8th at 1280; src/estimate/lift.hpp, PixelGrid), so the number of samples,
+  // the check's time and min_points mean the same at any resolution.
+  int pixel_stride = 0;
   // Depth readings outside this range are not used (same range as lifting).
   double min_depth_m = 0.1;
   double max_depth_m = 8.0;
@@ -383,8 +391,9 @@ struct ObjectsConfig {
   // With k >= 2 views, keep only objects seen in at least this many views (paper: 2).
   int min_views = 2;
   // Mask pixels are back-projected on a grid with this stride: 4 px keeps ~6% of the pixels,
-  // plenty for a centroid and an overlap test.
-  int pixel_stride = 4;
+  // plenty for a centroid and an overlap test. 0 = follow the image size as verify.pixel_stride
+  // does (4 at 640 and 540 px wide, 8 at 1280), so min_points is the same share of a view.
+  int pixel_stride = 0;
   // An observation with fewer 3D points than this is dropped (mask on invalid depth or edges).
   int min_points = 20;
   // Two observations in different views are the same object when their labels are compatible and
@@ -489,7 +498,8 @@ struct HypothesesConfig {
   double geometry_voxel_m = 0.05;
   // 4: a pixel at 2 m covers 3.4 mm on a Kinect (f = 585 px), so every 4th pixel still leaves
   // several per 5 cm voxel; stride 2 gave the same transform (redkitchen 796 -> 341) at 1.5x time.
-  int geometry_pixel_stride = 4;
+  // 0 = follow the image size as verify.pixel_stride does (4 at 640 and 540 px wide, 8 at 1280).
+  int geometry_pixel_stride = 0;
   // true: an extra source's estimate is never valid where the check finds the geometry degenerate
   // (VerificationResult::degenerate): there the check leaves the open motion to the
   // correspondences, and these sources' correspondences are mostly wrong by construction (a

@@ -82,10 +82,12 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
   }
 }
 
-IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stages, bool as_target) {
+IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stages, bool as_target,
+                            int pixel_stride) {
   std::vector<double> camera_depth;
-  const std::vector<Eigen::Vector3d> points =
-      ScanPoints(scan, /*stride=*/2, 0.0, 1e9, &camera_depth);
+  // Auto: twice the other stages' grid (RefineConfig::pixel_stride).
+  const PixelGrid grid{pixel_stride, 2 * kGridColumns};
+  const std::vector<Eigen::Vector3d> points = ScanPoints(scan, grid, 0.0, 1e9, &camera_depth);
   return IcpGeometry(points, stages, as_target, camera_depth);
 }
 

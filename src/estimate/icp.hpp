@@ -79,11 +79,12 @@ class IcpGeometry {
   std::vector<std::shared_ptr<const Level>> levels_;  // one per distinct voxel size, in order
 };
 
-// The ICP geometry of a scan as the pipeline refines with it: every other depth pixel of its views
-// with its depth reading (the stages thin to 2 cm voxels or coarser), or its fused point cloud
-// without readings.
+// The ICP geometry of a scan as the pipeline refines with it: every pixel_stride-th depth pixel
+// of its views (RefineConfig::pixel_stride; 0 = every other pixel at 640 px wide, following the
+// image size) with its depth reading (the stages thin to 2 cm voxels or coarser), or its fused
+// point cloud without readings.
 IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stages,
-                            bool as_target = true);
+                            bool as_target = true, int pixel_stride = 0);
 
 // Point-to-plane ICP from `initial` through `stages` (which must be those the geometries were
 // built for). The closest-point search of each iteration runs on `threads` threads; the sums are

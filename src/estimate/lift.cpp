@@ -52,14 +52,19 @@ std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride, doubl
   return points;
 }
 
-std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride, double min_depth_m,
+int PixelGrid::StrideFor(int image_width) const {
+  if (stride > 0) return stride;
+  return std::max(1, (image_width + columns - 1) / std::max(1, columns));
+}
+
+std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, PixelGrid grid, double min_depth_m,
                                         double max_depth_m, std::vector<double>* camera_depth) {
   if (camera_depth != nullptr) camera_depth->clear();
   if (!scan.points.empty()) return scan.points;
   std::vector<Eigen::Vector3d> points;
   for (const View& view : scan.views) {
-    const std::vector<Eigen::Vector3d> p =
-        BackProjectView(view, stride, min_depth_m, max_depth_m, camera_depth);
+    const std::vector<Eigen::Vector3d> p = BackProjectView(view, grid.StrideFor(view.depth.cols),
+                                                           min_depth_m, max_depth_m, camera_depth);
     points.insert(points.end(), p.begin(), p.end());
   }
   return points;

@@ -23,11 +23,26 @@ std::vector<Eigen::Vector3d> BackProjectView(const View& view, int stride = 1,
                                              double min_depth_m = 0.0, double max_depth_m = 1e9,
                                              std::vector<double>* camera_depth = nullptr);
 
+// Pixel grids that follow the image size. The stages that sample a view on a pixel grid
+// (verification, object lifting, the geometry hypotheses, ICP) take a stride setting where 0, the
+// default, means "the smallest stride that leaves at most `columns` grid columns across the
+// image". The number of samples per view, which those stages' time and count thresholds
+// (verify.min_points, objects.min_points) are about, then stays the same whatever the sensor's
+// resolution. With kGridColumns = 160 that is every 4th pixel at 640 and 540 px wide (the sensors
+// in ../shared, where the strides were chosen as 4), every 8th at 1280 and every 2nd at 320.
+inline constexpr int kGridColumns = 160;
+struct PixelGrid {
+  int stride = 0;              // > 0: every stride-th pixel, whatever the image size; 0: auto
+  int columns = kGridColumns;  // auto: at most this many grid columns across the image
+  int StrideFor(int image_width) const;
+};
+
 // The geometry of a scan: its point cloud when it has one, else all its views back-projected
-// (BackProjectView with the same arguments). `camera_depth`, when given, receives each point's
-// depth reading, or is left empty for a point cloud (fused points have no one reading).
-std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, int stride = 1, double min_depth_m = 0.0,
-                                        double max_depth_m = 1e9,
+// (BackProjectView, each view at grid.StrideFor(its width)). `camera_depth`, when given, receives
+// each point's depth reading, or is left empty for a point cloud (fused points have no one
+// reading).
+std::vector<Eigen::Vector3d> ScanPoints(const Scan& scan, PixelGrid grid = PixelGrid{1},
+                                        double min_depth_m = 0.0, double max_depth_m = 1e9,
                                         std::vector<double>* camera_depth = nullptr);
 
 }  // namespace zeroreg

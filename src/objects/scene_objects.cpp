@@ -73,7 +73,7 @@ int Find(std::vector<int>& parent, int i) {
 std::vector<Eigen::Vector3d> LiftMask(const View& view, const cv::Mat& mask,
                                       const ObjectsConfig& objects, const LiftConfig& lift) {
   std::vector<Eigen::Vector3d> points;
-  const int stride = std::max(1, objects.pixel_stride);
+  const int stride = PixelGrid{objects.pixel_stride}.StrideFor(mask.cols);
   for (int y = stride / 2; y < mask.rows; y += stride) {
     const uchar* row = mask.ptr<uchar>(y);
     for (int x = stride / 2; x < mask.cols; x += stride) {

@@ -155,12 +155,12 @@ std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Sc
   const HypothesesConfig& h = config.hypotheses;
   FpfhParams params;
   params.voxel_m = h.geometry_voxel_m;
-  const FpfhCloud s = ComputeFpfh(
-      ScanPoints(source, h.geometry_pixel_stride, config.lift.min_depth_m, config.lift.max_depth_m),
-      params);
-  const FpfhCloud t = ComputeFpfh(
-      ScanPoints(target, h.geometry_pixel_stride, config.lift.min_depth_m, config.lift.max_depth_m),
-      params);
+  const FpfhCloud s = ComputeFpfh(ScanPoints(source, PixelGrid{h.geometry_pixel_stride},
+                                             config.lift.min_depth_m, config.lift.max_depth_m),
+                                  params);
+  const FpfhCloud t = ComputeFpfh(ScanPoints(target, PixelGrid{h.geometry_pixel_stride},
+                                             config.lift.min_depth_m, config.lift.max_depth_m),
+                                  params);
   std::vector<Correspondence> out;
   for (const FeaturePair& m : MutualFeatureMatches(s, t, config.threads)) {
     Correspondence c;

@@ -106,7 +106,7 @@ void Visit(V& v, RansacConfig& c) {
 template <typename V>
 void Visit(V& v, VerifyConfig& c) {
   v("enabled", c.enabled);
-  v("pixel_stride", c.pixel_stride, AtLeast(1));
+  v("pixel_stride", c.pixel_stride, AtLeast(0));
   v("min_depth_m", c.min_depth_m, AtLeast(0));
   v("max_depth_m", c.max_depth_m, Positive());
   v("registration_tolerance_m", c.registration_tolerance_m, Positive());
@@ -123,6 +123,7 @@ void Visit(V& v, VerifyConfig& c) {
 template <typename V>
 void Visit(V& v, RefineConfig& c) {
   v("enabled", c.enabled);
+  v("pixel_stride", c.pixel_stride, AtLeast(0));
   v("voxel_coarse_m", c.voxel_coarse_m, Positive());
   v("max_distance_coarse_m", c.max_distance_coarse_m, Positive());
   v("coarse_iterations", c.coarse_iterations, AtLeast(0));
@@ -176,7 +177,7 @@ void Visit(V& v, SemanticsConfig& c) {
 template <typename V>
 void Visit(V& v, ObjectsConfig& c) {
   v("min_views", c.min_views, AtLeast(1));
-  v("pixel_stride", c.pixel_stride, AtLeast(1));
+  v("pixel_stride", c.pixel_stride, AtLeast(0));
   v("min_points", c.min_points, AtLeast(1));
   v("association_min_overlap", c.association_min_overlap, Fraction());
   v("association_voxel_m", c.association_voxel_m, Positive());
@@ -228,7 +229,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("estimator", c.estimator);
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());
-  v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(1));
+  v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(0));
   v("refuse_degenerate", c.refuse_degenerate);
   v("image_rival", c.image_rival);
   v("image_rival_degenerate", c.image_rival_degenerate);

@@ -389,7 +389,8 @@ struct Pipeline::Impl {
       geometry_timer.Restart();
       if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
       if (config.refine.enabled) {
-        p->icp = ScanIcpGeometry(scan, IcpSchedule(config.refine), as_target);
+        p->icp = ScanIcpGeometry(scan, IcpSchedule(config.refine), as_target,
+                                 config.refine.pixel_stride);
       }
       geometry_timer.Mark("geometry");
     };

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <vector>
 
+#include "estimate/lift.hpp"
+
 namespace zeroreg {
 namespace {
 
@@ -184,10 +186,10 @@ Transform WeakestMotion(const std::vector<SurfacePoint>& agreeing, double distan
 // The normal comes from the 4-neighbours 2 px away (the same neighbours that decide the edge test).
 std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config) {
   std::vector<SurfacePoint> out;
-  const int stride = std::max(1, config.pixel_stride);
   constexpr int kStep = 2;
   for (const View& view : scan.views) {
     const cv::Mat& depth = view.depth;
+    const int stride = PixelGrid{config.pixel_stride}.StrideFor(depth.cols);
     const Intrinsics& K = view.intrinsics;
     const Eigen::Matrix3d R = view.T_scan_camera.topLeftCorner<3, 3>();
     const Eigen::Vector3d t = view.T_scan_camera.topRightCorner<3, 1>();

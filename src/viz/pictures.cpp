@@ -142,8 +142,8 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
       }
     }
   };
-  const std::vector<Eigen::Vector3d> target_points = ScanPoints(target, 3),
-                                     source_points = ScanPoints(source, 3);
+  const std::vector<Eigen::Vector3d> target_points = ScanPoints(target, PixelGrid{3}),
+                                     source_points = ScanPoints(source, PixelGrid{3});
   // Interleave draw order by splitting each cloud in halves, so neither colour always wins.
   const size_t hs = source_points.size() / 2, ht = target_points.size() / 2;
   const std::vector<Eigen::Vector3d> s1(source_points.begin(), source_points.begin() + hs),

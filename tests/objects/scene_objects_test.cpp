@@ -121,5 +121,28 @@ TEST(SceneObjects, LiftMaskSkipsInvalidDepthAndEdges) {
   EXPECT_TRUE(beside_hole) << "pixels next to a hole are lifted";
 }
 
+// The default grid (objects.pixel_stride = 0) takes about the same number of points from an
+// object's mask whatever the image size, so objects.min_points means the same share of a view.
+TEST(SceneObjects, LiftMaskPointCountFollowsTheImageSize) {
+  auto lifted = [](int width, int height, int stride) {
+    View view;
+    view.intrinsics = {width * 0.9,        width * 0.9, (width - 1) / 2.0,
+                       (height - 1) / 2.0, width,       height};
+    view.color = cv::Mat(height, width, CV_8UC3, cv::Scalar(0, 0, 0));
+    view.depth = cv::Mat(height, width, CV_32F, cv::Scalar(2.0f));
+    cv::Mat mask(height, width, CV_8U, cv::Scalar(0));
+    mask(cv::Rect(width / 4, height / 4, width / 2, height / 2)).setTo(255);  // a quarter of it
+    ObjectsConfig objects;
+    objects.pixel_stride = stride;
+    return static_cast<double>(LiftMask(view, mask, objects, LiftConfig()).size());
+  };
+  const double at_640 = lifted(640, 480, 0);
+  EXPECT_EQ(at_640, lifted(640, 480, 4));               // auto = 4 at 640 px wide, as before
+  EXPECT_EQ(lifted(540, 360, 0), lifted(540, 360, 4));  // and at HoloLens' 540
+  EXPECT_NEAR(lifted(1280, 960, 0) / at_640, 1.0, 0.02);
+  EXPECT_NEAR(lifted(320, 240, 0) / at_640, 1.0, 0.02);
+  EXPECT_NEAR(lifted(1280, 960, 4) / at_640, 4.0, 0.1);
+}
+
 }  // namespace
 }  // namespace zeroreg

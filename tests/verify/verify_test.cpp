@@ -33,18 +33,21 @@ double HitBox(const Box& b, const Eigen::Vector3d& o, const Eigen::Vector3d& d) 
   return t0 > 0 ? t0 : std::numeric_limits<double>::infinity();
 }
 
-// A one-view scan of `scene` seen from camera pose T_world_camera (x right, y down, z forward).
-Scan Render(const std::vector<Box>& scene, const Transform& T_world_camera) {
+// A one-view scan of `scene` seen from camera pose T_world_camera (x right, y down, z forward),
+// 320x240 pixels times `scale` (same field of view at any scale).
+Scan Render(const std::vector<Box>& scene, const Transform& T_world_camera, int scale = 1) {
+  const int width = 320 * scale, height = 240 * scale;
+  const double f = 320.0 * scale, cx = (width - 1) / 2.0, cy = (height - 1) / 2.0;
   View v;
   v.name = "synthetic";
-  v.intrinsics = {320.0, 320.0, 159.5, 119.5, 320, 240};
-  v.color = cv::Mat(240, 320, CV_8UC3, cv::Scalar(128, 128, 128));
-  v.depth = cv::Mat(240, 320, CV_32FC1, cv::Scalar(0.0f));
+  v.intrinsics = {f, f, cx, cy, width, height};
+  v.color = cv::Mat(height, width, CV_8UC3, cv::Scalar(128, 128, 128));
+  v.depth = cv::Mat(height, width, CV_32FC1, cv::Scalar(0.0f));
   const Eigen::Matrix3d R = T_world_camera.topLeftCorner<3, 3>();
   const Eigen::Vector3d o = T_world_camera.topRightCorner<3, 1>();
-  for (int y = 0; y < 240; ++y) {
-    for (int x = 0; x < 320; ++x) {
-      const Eigen::Vector3d ray_camera((x - 159.5) / 320.0, (y - 119.5) / 320.0, 1.0);
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const Eigen::Vector3d ray_camera((x - cx) / f, (y - cy) / f, 1.0);
       const Eigen::Vector3d d = R * ray_camera;
       double t = std::numeric_limits<double>::infinity();
       for (const Box& b : scene) t = std::min(t, HitBox(b, o, d));
@@ -86,10 +89,11 @@ struct Pair {
   Transform T_target_source;
 };
 
-Pair MakePair(const std::vector<Box>& scene) {
+Pair MakePair(const std::vector<Box>& scene, int scale = 1) {
   const Transform P_target = Pose(0, {0, 0, 0});
   const Transform P_source = Pose(12, {0.3, 0.0, 0.4});
-  return {Render(scene, P_source), Render(scene, P_target), P_target.inverse() * P_source};
+  return {Render(scene, P_source, scale), Render(scene, P_target, scale),
+          P_target.inverse() * P_source};
 }
 
 TEST(Verify, CorrectTransformPasses) {
@@ -170,6 +174,30 @@ TEST(Verify, NoDepthIsTooLittleToVerify) {
       VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
   EXPECT_FALSE(v.passed);
   EXPECT_NE(v.reason.find("too little depth"), std::string::npos) << v.reason;
+}
+
+// The default sampling grid follows the image size (verify.pixel_stride = 0, PixelGrid): the same
+// scene seen at 640x480 and 1280x960 gives about the same number of samples and the same verdict,
+// while a fixed stride samples the larger image four times as densely.
+TEST(Verify, SamplesFollowTheImageSize) {
+  const Pair small = MakePair(Room(), 2), large = MakePair(Room(), 4);
+  const size_t n_small = SampleSurface(small.target, VerifyConfig()).size();
+  const size_t n_large = SampleSurface(large.target, VerifyConfig()).size();
+  ASSERT_GT(n_small, 5000u);
+  EXPECT_NEAR(static_cast<double>(n_large) / static_cast<double>(n_small), 1.0, 0.05);
+  VerifyConfig fixed;
+  fixed.pixel_stride = 4;
+  EXPECT_EQ(SampleSurface(small.target, fixed).size(), n_small);  // 640 px: auto = 4
+  EXPECT_NEAR(
+      static_cast<double>(SampleSurface(large.target, fixed).size()) / static_cast<double>(n_small),
+      4.0, 0.2);
+  const VerificationResult a =
+      VerifyRegistration(small.source, small.target, small.T_target_source, VerifyConfig());
+  const VerificationResult b =
+      VerifyRegistration(large.source, large.target, large.T_target_source, VerifyConfig());
+  EXPECT_TRUE(a.passed) << a.reason;
+  EXPECT_TRUE(b.passed) << b.reason;
+  EXPECT_NEAR(a.overlap, b.overlap, 0.03);
 }
 
 TEST(Verify, SameInputSameResult) {
