@@ -145,6 +145,42 @@ TEST(RegisterReal, ObjectLevelMatchesEveryViewPairThatSeesTheObject) {
   }
 }
 
+// The frame as a sensor of `scale` times Kinect v1's resolution would see it: colour
+// resampled, depth by nearest neighbour, intrinsics scaled about pixel centres (as
+// tools/resize_scene.cpp does for scripts/bench-resolution.sh).
+Scan Resized(Scan scan, double scale) {
+  View& v = scan.views[0];
+  const cv::Size size(static_cast<int>(v.color.cols * scale),
+                      static_cast<int>(v.color.rows * scale));
+  cv::Mat color, depth;
+  cv::resize(v.color, color, size, 0, 0, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  cv::resize(v.depth, depth, size, 0, 0, cv::INTER_NEAREST);
+  v.color = color;
+  v.depth = depth;
+  Intrinsics& K = v.intrinsics;
+  K.fx *= scale;
+  K.fy *= scale;
+  K.cx = (K.cx + 0.5) * scale - 0.5;
+  K.cy = (K.cy + 0.5) * scale - 0.5;
+  K.width = size.width;
+  K.height = size.height;
+  return scan;
+}
+
+// Two sensors of different resolutions (1280x960 and 320x240 against the 640x480 frames): every
+// stage that samples pixels does so per view (the pixel grids follow each view's size), so the
+// pair registers as well as the 640x480 one.
+TEST(RegisterReal, ScansOfDifferentResolutionsRegister) {
+  const Scan source = Frame(60), target = Frame(0);
+  const Transform gt = GroundTruth(source, target);
+  for (const auto& [s, t] : {std::pair<double, double>{2.0, 1.0}, {0.5, 2.0}}) {
+    const RegistrationResult r = Register(Resized(source, s), Resized(target, t));
+    EXPECT_TRUE(r.valid) << s << " " << t << ": " << r.reason;
+    EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 2.0) << s << " " << t;
+    EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.03) << s << " " << t;
+  }
+}
+
 TEST(RegisterReal, SameInputAndSeedGiveTheSameOutputBitForBit) {
   const Scan source = Frame(120), target = Frame(100);
   const RegistrationResult a = Register(source, target);
