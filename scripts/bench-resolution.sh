@@ -10,7 +10,9 @@
 # scripts/bench-suite.sh (METHODS=zeroreg, DATA=the copies) into RESULTS/WxH (default
 # results/resolution), and the table of each size is printed (scripts/suite-table.py). JOBS and
 # EXTRA go to bench-suite.sh as they are (EXTRA="--set verify.pixel_stride=4" compares with a
-# fixed grid). A rerun resumes finished pairs: delete RESULTS/WxH to measure again.
+# fixed grid). DEPTH_NOISE=A (metres at 1 m) also adds sigma(d) = A d^2 Gaussian depth noise to
+# the copies (a noisier sensor; folders WxH-noiseA). A rerun resumes finished pairs: delete the
+# results folder to measure again.
 set -euo pipefail
 repo_root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$repo_root"
@@ -18,6 +20,9 @@ resize="${RESIZE_BIN:-build/zeroreg-resize-scene}"
 data_root="${DATA:-../shared/data}"
 results="${RESULTS:-results/resolution}"
 read -r -a sizes <<< "${SIZES:-1280x960 320x240}"
+noise="${DEPTH_NOISE:-0}"
+suffix=""
+[[ "$noise" == 0 ]] || suffix="-noise$noise"
 lists=("$@")
 [[ ${#lists[@]} -gt 0 ]] || lists=(redkitchen-gap60)
 if [[ ! -x "$resize" ]]; then
@@ -39,12 +44,13 @@ for size in "${sizes[@]}"; do
       cabinet-*) scene=tum-fr3-cabinet ;;
       *) echo "bench-resolution: no scene known for list '$list'" >&2; exit 2 ;;
     esac
-    "$resize" "$data_root/$scene" "cache/resized/$size/$scene" "$width" "$height"
+    "$resize" "$data_root/$scene" "cache/resized/$size$suffix/$scene" "$width" "$height" "$noise"
   done
-  METHODS=zeroreg DATA="cache/resized/$size" RESULTS="$results/$size" LIST_FILTER="$filter" \
+  METHODS=zeroreg DATA="cache/resized/$size$suffix" RESULTS="$results/$size$suffix" \
+    LIST_FILTER="$filter" \
     bash scripts/bench-suite.sh run
 done
 for size in "${sizes[@]}"; do
-  echo "## $size"
-  cat "$results/$size/suite.md"
+  echo "## $size$suffix"
+  cat "$results/$size$suffix/suite.md"
 done

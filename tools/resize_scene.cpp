@@ -2,20 +2,30 @@
 // for measuring how the pipeline behaves on sensors of other resolutions (scripts/
 // bench-resolution.sh, BENCHMARKS.md "Other sensors' resolutions"). Not installed.
 //
-//   zeroreg-resize-scene SCENE_DIR OUT_DIR WIDTH HEIGHT
+//   zeroreg-resize-scene SCENE_DIR OUT_DIR WIDTH HEIGHT [DEPTH_NOISE_AT_1M_M]
 //
 // Colour is resampled bilinearly when enlarged and by area averaging when shrunk; depth by nearest
 // neighbour (averaging depth across an edge would invent surfaces in free space); the intrinsics
 // are scaled about pixel centres (c' = (c + 0.5) s - 0.5, f' = f s). Poses and the scene's other
 // top-level files are copied unchanged. An existing complete copy is left as it is.
+//
+// With DEPTH_NOISE_AT_1M_M > 0, Gaussian noise of sigma(d) = DEPTH_NOISE_AT_1M_M * d^2 (metres;
+// the structured-light / stereo model of docs/CONFIG.md, i.e. constant noise in disparity) is
+// added to every valid depth reading after resizing, independently per pixel and with a seed per
+// frame (the same copy every time): a noisier sensor than the scene's own (a RealSense-class
+// stereo camera is several times Kinect v1's 1.5 mm at 1 m). Depth must be in millimetres (the
+// 3DMatch layout of ../shared/data).
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -66,7 +76,30 @@ void Write(const fs::path& path, const cv::Mat& image, const std::vector<int>& p
   }
 }
 
-int Run(const fs::path& scene, const fs::path& out, int width, int height) {
+// FNV-1a of a frame's name: its noise seed, the same on every platform.
+std::uint32_t Seed(const std::string& name) {
+  std::uint32_t h = 2166136261u;
+  for (const char c : name) h = (h ^ static_cast<unsigned char>(c)) * 16777619u;
+  return h;
+}
+
+// Adds sigma(d) = noise_at_1m * d^2 Gaussian noise to a CV_16U millimetre depth image.
+void AddDepthNoise(cv::Mat& depth_mm, double noise_at_1m, std::uint32_t seed) {
+  if (depth_mm.type() != CV_16UC1) throw std::runtime_error("depth noise needs 16-bit depth PNGs");
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (int y = 0; y < depth_mm.rows; ++y) {
+    auto* row = depth_mm.ptr<std::uint16_t>(y);
+    for (int x = 0; x < depth_mm.cols; ++x) {
+      if (row[x] == 0) continue;
+      const double d = row[x] / 1000.0;
+      const double noisy_mm = 1000.0 * (d + noise_at_1m * d * d * unit(rng));
+      row[x] = static_cast<std::uint16_t>(std::clamp(std::lround(noisy_mm), 1L, 65535L));
+    }
+  }
+}
+
+int Run(const fs::path& scene, const fs::path& out, int width, int height, double noise_at_1m) {
   const fs::path frames = fs::is_directory(scene / "frames") ? scene / "frames" : scene;
   const fs::path intrinsics_path = fs::exists(frames / "camera-intrinsics.txt")
                                        ? frames / "camera-intrinsics.txt"
@@ -98,6 +131,9 @@ int Run(const fs::path& scene, const fs::path& out, int width, int height) {
     cv::resize(image, colour_out, cv::Size(width, height), 0, 0,
                shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
     cv::resize(depth, depth_out, cv::Size(width, height), 0, 0, cv::INTER_NEAREST);
+    if (noise_at_1m > 0) {
+      AddDepthNoise(depth_out, noise_at_1m, Seed(stem));
+    }
     Write(out_frames / (stem + kColour), colour_out, {cv::IMWRITE_JPEG_QUALITY, 95});
     Write(out_frames / (stem + kDepth), depth_out);
     fs::copy_file(frames / (stem + kPose), out_frames / (stem + kPose),
@@ -115,14 +151,19 @@ int Run(const fs::path& scene, const fs::path& out, int width, int height) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    std::cerr << "usage: zeroreg-resize-scene SCENE_DIR OUT_DIR WIDTH HEIGHT\n";
+  if (argc != 5 && argc != 6) {
+    std::cerr
+        << "usage: zeroreg-resize-scene SCENE_DIR OUT_DIR WIDTH HEIGHT [DEPTH_NOISE_AT_1M_M]\n";
     return 2;
   }
   try {
     const int width = std::stoi(argv[3]), height = std::stoi(argv[4]);
     if (width < 16 || height < 16) throw std::runtime_error("WIDTH and HEIGHT must be >= 16 px");
-    return Run(argv[1], argv[2], width, height);
+    const double noise = argc == 6 ? std::stod(argv[5]) : 0.0;
+    if (!(noise >= 0 && noise < 1)) {
+      throw std::runtime_error("DEPTH_NOISE_AT_1M_M must be in [0, 1) metres");
+    }
+    return Run(argv[1], argv[2], width, height, noise);
   } catch (const std::exception& e) {
     std::cerr << "zeroreg-resize-scene: " << e.what() << "\n";
     return 1;

@@ -958,8 +958,10 @@ PYBIND11_MODULE(_zeroreg, m) {
           py::gil_scoped_release release;
           // The same geometry as the pipeline's refinement step.
           const std::vector<IcpStage> stages = IcpSchedule(c.refine);
-          icp = RefinePointToPlane(ScanIcpGeometry(s, stages, /*as_target=*/false),
-                                   ScanIcpGeometry(t, stages), initial, stages);
+          icp = RefinePointToPlane(
+              ScanIcpGeometry(s, stages, /*as_target=*/false, c.refine.pixel_stride),
+              ScanIcpGeometry(t, stages, /*as_target=*/true, c.refine.pixel_stride), initial,
+              stages);
         }
         py::dict out;
         out["T_target_source"] = MatrixToNumpy(icp.T_target_source);

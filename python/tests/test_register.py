@@ -227,3 +227,15 @@ def test_objects_and_matches_are_consistent(result_20_0_from_paths):
     assert len(r.object_matches) + r.rejected_object_matches <= min(
         len(r.source_objects), len(r.target_objects)
     )
+
+
+def test_default_config_is_accepted_back():
+    # The whole default config, as Python returns it, must be a valid config: its unsigned 64-bit
+    # settings (object_match.max_exact_assignments) arrive as Python ints, i.e. signed integers.
+    config = zeroreg.default_config()
+    assert isinstance(config["object_match"]["max_exact_assignments"], int)
+    p = zeroreg.Pipeline(config)
+    assert p.config == zeroreg.default_config()
+    config["object_match"]["max_exact_assignments"] = -1
+    with pytest.raises(ValueError, match="max_exact_assignments"):
+        zeroreg.Pipeline(config)

@@ -315,8 +315,11 @@ class JsonReader {
   }
   void operator()(const char* key, std::uint64_t& value) {
     if (const json* j = Claim(key)) {
-      // nlohmann stores every non-negative integer literal as unsigned.
-      if (!j->is_number_unsigned()) {
+      // nlohmann stores every non-negative integer literal parsed from text as unsigned; one
+      // built in code (the Python module's int64) may be signed and still non-negative.
+      const bool non_negative_integer =
+          j->is_number_unsigned() || (j->is_number_integer() && j->get<std::int64_t>() >= 0);
+      if (!non_negative_integer) {
         Fail(key, "is " + Shown(*j) + "; expected an integer in [0, 18446744073709551615]");
       }
       value = j->get<std::uint64_t>();
