@@ -10,6 +10,7 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "estimate/depth_noise.hpp"
 #include "estimate/lift.hpp"
 #include "estimate/normals.hpp"
 #include "estimate/point_kd_tree.hpp"
@@ -85,8 +86,16 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
 IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stages, bool as_target,
                             int pixel_stride) {
   std::vector<double> camera_depth;
-  // Auto: twice the other stages' grid (RefineConfig::pixel_stride).
-  const PixelGrid grid{pixel_stride, 2 * kGridColumns};
+  // Auto (RefineConfig::pixel_stride): twice the other stages' grid, or the same grid where the
+  // depth is noisy. Every other pixel lets each 2 cm voxel average several readings of a thin
+  // surface; a noisy surface is thicker than a voxel, so more readings fill more voxels instead
+  // (twice the points, three times the iterations, no better fit: docs/CONFIG.md "Depth noise").
+  int columns = 2 * kGridColumns;
+  if (pixel_stride == 0 && scan.points.empty()) {
+    const std::optional<double> noise = MeasureDepthNoiseAt1m(scan);
+    if (noise && *noise > kNoisyDepthAt1mM) columns = kGridColumns;
+  }
+  const PixelGrid grid{pixel_stride, columns};
   const std::vector<Eigen::Vector3d> points = ScanPoints(scan, grid, 0.0, 1e9, &camera_depth);
   return IcpGeometry(points, stages, as_target, camera_depth);
 }

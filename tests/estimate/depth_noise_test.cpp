@@ -1,0 +1,86 @@
+// The depth-noise measurement (src/estimate/depth_noise.hpp) on synthetic depth images with a
+// known noise level, on real frames of known sensors, and its use in ICP's sampling grid.
+#include "estimate/depth_noise.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "estimate/icp.hpp"
+#include "test_paths.hpp"
+#include "zeroreg/io.hpp"
+
+namespace zeroreg {
+namespace {
+
+// A 640x480 view (f = 585 px, Kinect v1) of a slanted wall, 1.5 m deep at the left edge and
+// 3 m at the right, with a box standing 0.5 m in front of it (two depth edges), and Gaussian
+// noise sigma(d) = noise_at_1m d^2 added to every reading.
+View NoisyWall(double noise_at_1m, unsigned seed) {
+  View v;
+  v.intrinsics = {585, 585, 319.5, 239.5, 640, 480};
+  v.color = cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
+  v.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(0.0f));
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> unit(0.0, 1.0);
+  for (int y = 0; y < 480; ++y) {
+    for (int x = 0; x < 640; ++x) {
+      // A plane: 1/d is affine in the pixel coordinates.
+      double d = 1.0 / (1.0 / 1.5 + (1.0 / 3.0 - 1.0 / 1.5) * x / 639.0);
+      if (x > 250 && x < 400 && y > 200) d -= 0.5;
+      v.depth.at<float>(y, x) = static_cast<float>(d + noise_at_1m * d * d * unit(rng));
+    }
+  }
+  return v;
+}
+
+TEST(DepthNoise, MeasuresTheNoiseItWasGiven) {
+  for (const double a : {0.0015, 0.005, 0.01}) {
+    const std::optional<double> measured = MeasureDepthNoiseAt1m(NoisyWall(a, 7));
+    ASSERT_TRUE(measured.has_value());
+    EXPECT_NEAR(*measured, a, 0.1 * a) << a;
+  }
+  // Noise-free depth measures (almost) nothing: the plane and the box's edges are not noise.
+  EXPECT_LT(*MeasureDepthNoiseAt1m(NoisyWall(0.0, 7)), 1e-5);
+}
+
+TEST(DepthNoise, ScanTakesTheMedianViewAndNeedsDepth) {
+  Scan scan;
+  for (const double a : {0.002, 0.01, 0.004}) scan.views.push_back(NoisyWall(a, 3));
+  EXPECT_NEAR(*MeasureDepthNoiseAt1m(scan), 0.004, 0.0004);
+  View empty = NoisyWall(0.002, 3);
+  empty.depth.setTo(0.0f);
+  EXPECT_FALSE(MeasureDepthNoiseAt1m(empty).has_value());
+  EXPECT_FALSE(MeasureDepthNoiseAt1m(Scan()).has_value());
+}
+
+// Kinect v1 frames measure close to its published 1.5 mm at 1 m (Khoshelham & Elberink 2012),
+// below the "noisy" line that changes ICP's sampling.
+TEST(DepthNoise, KinectFramesMeasureAboutOneAndAHalfMillimetres) {
+  for (const int frame : {0, 500}) {
+    const Scan scan = LoadScan(testing::RedkitchenDir() + "@" + std::to_string(frame));
+    const std::optional<double> a = MeasureDepthNoiseAt1m(scan);
+    ASSERT_TRUE(a.has_value());
+    EXPECT_GT(*a, 0.0012);
+    EXPECT_LT(*a, 0.0022);
+    EXPECT_LT(*a, kNoisyDepthAt1mM);
+  }
+}
+
+// ICP samples every other pixel of quiet depth and every 4th of noisy depth (at 640 px wide);
+// an explicit refine.pixel_stride is used whatever the noise.
+TEST(DepthNoise, IcpSamplesNoisyDepthOnTheSparserGrid) {
+  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig());
+  const double voxel = RefineConfig().voxel_m;
+  const auto points = [&](double noise, int stride) {
+    Scan scan;
+    scan.views.push_back(NoisyWall(noise, 11));
+    return ScanIcpGeometry(scan, stages, /*as_target=*/false, stride).NumPoints(voxel);
+  };
+  EXPECT_EQ(points(0.0015, 0), points(0.0015, 2));
+  EXPECT_EQ(points(0.006, 0), points(0.006, 4));
+  EXPECT_LT(points(0.006, 0), points(0.006, 2));
+}
+
+}  // namespace
+}  // namespace zeroreg
