@@ -22,6 +22,7 @@
 #include <opencv2/imgproc.hpp>
 #include <sstream>
 
+#include "estimate/depth_noise.hpp"
 #include "estimate/icp.hpp"
 #include "eval/metrics.hpp"
 #include "io/image_file.hpp"
@@ -917,6 +918,23 @@ PYBIND11_MODULE(_zeroreg, m) {
         return TranslationErrorM(RequireRigid(T, "T"), RequireRigid(T_gt, "T_gt"));
       },
       py::arg("T"), py::arg("T_gt"));
+
+  // How noisy a scan's depth is (src/estimate/depth_noise.hpp, docs/CONFIG.md "Depth noise"): the
+  // a of sigma(d) = a d^2 that verify/refine.depth_noise_at_1m_m assume, measured.
+  m.def(
+      "depth_noise_at_1m_m",
+      [](const py::handle& scan) -> py::object {
+        const Scan s = ScanFromPython(scan, "scan");
+        std::optional<double> a;
+        {
+          py::gil_scoped_release release;
+          a = MeasureDepthNoiseAt1m(s);
+        }
+        return a ? py::object(py::float_(*a)) : py::object(py::none());
+      },
+      py::arg("scan"),
+      "The depth noise a of sigma(d) = a d^2 (metres at 1 m), measured from the scan's depth "
+      "images (median over its views), or None when it has no measurable depth image.");
 
   // The geometric check of the verdict for any transform (docs/CONFIG.md "verify"): lets a user
   // check a transform from elsewhere, and the calibration script measure the check's separation.

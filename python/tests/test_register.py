@@ -239,3 +239,18 @@ def test_default_config_is_accepted_back():
     config["object_match"]["max_exact_assignments"] = -1
     with pytest.raises(ValueError, match="max_exact_assignments"):
         zeroreg.Pipeline(config)
+
+
+def test_depth_noise_is_measured_from_the_depth():
+    # Kinect v1: about its published 1.5 mm at 1 m. Adding sigma = 0.01 d^2 noise to the same
+    # depth makes it measure about sqrt(0.01^2 + a^2).
+    view = frame_view_dict(0)
+    a = zeroreg.depth_noise_at_1m_m({"views": [view]})
+    assert 0.0012 < a < 0.0022
+    rng = np.random.default_rng(0)
+    depth_m = view["depth"].astype(np.float64) / view.get("depth_scale", 1000.0)
+    noisy = depth_m + 0.01 * depth_m**2 * rng.standard_normal(depth_m.shape)
+    noisy_view = dict(view, depth=np.where(depth_m > 0, noisy, 0.0).astype(np.float32))
+    noisy_view.pop("depth_scale", None)
+    b = zeroreg.depth_noise_at_1m_m({"views": [noisy_view]})
+    assert abs(b - np.hypot(0.01, a)) < 0.001

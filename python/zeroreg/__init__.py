@@ -29,6 +29,7 @@ from ._zeroreg import (
     rotation_error_deg,
     translation_error_m,
 )
+from ._zeroreg import depth_noise_at_1m_m as _depth_noise_at_1m_m
 from ._zeroreg import refine as _refine
 from ._zeroreg import verify as _verify
 
@@ -42,6 +43,7 @@ __all__ = [
     "Scan",
     "View",
     "default_config",
+    "depth_noise_at_1m_m",
     "load_scan",
     "read_color",
     "read_depth",
@@ -186,7 +188,8 @@ def refine(
 ) -> dict:
     """The pipeline's ICP refinement (config "refine", docs/CONFIG.md) from any initial transform.
 
-    Coarse-to-fine point-to-plane ICP on every other depth pixel of both scans, starting from
+    Coarse-to-fine point-to-plane ICP on every other depth pixel of both scans (refine.pixel_stride;
+    every 4th where the depth is noisy, see depth_noise_at_1m_m), starting from
     T_target_source (4x4, e.g. odometry). Nothing anchors it and nothing checks it: pass the result
     to verify() before trusting it. Returns a dict: T_target_source (4x4 array), fitness (fraction
     of source points with a target point within the last stage's gate), rmse_m, iterations.
@@ -194,6 +197,14 @@ def refine(
     return _refine(
         _native(source, "source"), _native(target, "target"), np.asarray(T_target_source), config
     )
+
+
+def depth_noise_at_1m_m(scan: ScanLike) -> Optional[float]:
+    """How noisy the scan's depth is: a of sigma(d) = a d^2, in metres at 1 m, measured from its
+    depth images (second differences of 1/d on the pixel grid, median absolute deviation; the
+    median over its views). Kinect v1 frames measure about 0.0017. None when the scan has no
+    measurable depth image. docs/CONFIG.md, "Depth noise"."""
+    return _depth_noise_at_1m_m(_native(scan, "scan"))
 
 
 def verify(
