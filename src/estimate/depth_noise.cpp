@@ -12,16 +12,16 @@ std::optional<double> MeasureDepthNoiseAt1m(const View& view) {
   const cv::Mat& depth = view.depth;
   if (depth.empty() || depth.type() != CV_32FC1) return std::nullopt;
   const int k = PixelGrid{}.StrideFor(depth.cols);
-  // Every other row and column is plenty (tens of thousands of differences) at half the cost.
-  constexpr int kStep = 2;
+  // One sample per grid cell (every k-th row and column) is plenty: ~38000 differences at 640x480.
+  const int step = k;
   std::vector<float> differences;
-  differences.reserve(static_cast<size_t>(depth.rows / kStep) * (depth.cols / kStep) * 2);
+  differences.reserve(static_cast<size_t>(depth.rows / step) * (depth.cols / step) * 2);
   const auto inverse = [&](int y, int x) {
     const float z = depth.at<float>(y, x);
     return z > 0 ? 1.0f / z : 0.0f;
   };
-  for (int y = k; y + k < depth.rows; y += kStep) {
-    for (int x = k; x + k < depth.cols; x += kStep) {
+  for (int y = k; y + k < depth.rows; y += step) {
+    for (int x = k; x + k < depth.cols; x += step) {
       const float c = inverse(y, x);
       if (c == 0) continue;
       const float left = inverse(y, x - k), right = inverse(y, x + k);

@@ -28,7 +28,7 @@ std::optional<double> MeasureDepthNoiseAt1m(const Scan& scan);
 // Twice Kinect v1's published 1.5 mm at 1 m (Khoshelham & Elberink 2012): depth noisier than this
 // is "noisy" for ICP's sampling (RefineConfig::pixel_stride). Measured with
 // scripts/depth-noise.py (docs/CONFIG.md, "Depth noise"): the Kinect v1 / PrimeSense frames of
-// 7-Scenes and TUM 1.66-1.76 mm, HoloLens 0.14-1.32 mm.
+// 7-Scenes and TUM 1.65-1.76 mm, HoloLens 0.14-1.38 mm.
 inline constexpr double kNoisyDepthAt1mM = 0.003;
 
 }  // namespace zeroreg
