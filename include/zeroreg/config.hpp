@@ -43,6 +43,15 @@ struct LiftConfig {
   // (7-Scenes: ~5 px), so the radius is a few pixels.
   int depth_edge_radius_px = 4;
   double depth_edge_relative = 0.05;
+  // Noisy depth is not an edge: a jump must also exceed edge_noise_sigmas times the spread of the
+  // difference of two readings, sqrt(2) sigma(d) with sigma(d) = a d^2 and a measured from the
+  // view's own depth (src/estimate/depth_noise.hpp, docs/CONFIG.md "Depth noise"). 4 sigmas: of
+  // the ~80 neighbours in the radius, noise alone then marks about 0.5 % of the pixels. On
+  // Kinect v1 depth (a = 1.7 mm) this floor passes 5 % of the depth only beyond 5 m. 0 = off.
+  double edge_noise_sigmas = 4.0;
+  // The a of the view being lifted (metres at 1 m), set per view by the pipeline (LiftForView);
+  // not a setting (not read from or written to JSON). 0 = unknown: no noise floor.
+  double view_depth_noise_at_1m_m = 0.0;
   // true: an invalid pixel within the radius also makes an edge (before issue 10; for the
   // ablation in docs/CONFIG.md).
   bool holes_are_edges = false;

@@ -3,7 +3,18 @@
 #include <algorithm>
 #include <cmath>
 
+#include "estimate/depth_noise.hpp"
+
 namespace zeroreg {
+
+LiftConfig LiftForView(const LiftConfig& lift, const View& view) {
+  LiftConfig out = lift;
+  out.view_depth_noise_at_1m_m = 0.0;
+  if (lift.edge_noise_sigmas > 0) {
+    out.view_depth_noise_at_1m_m = MeasureDepthNoiseAt1m(view).value_or(0.0);
+  }
+  return out;
+}
 
 std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f& pixel,
                                          const LiftConfig& config) {
@@ -18,7 +29,10 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
   // count: HoloLens depth has a regular pattern of thin holes all over the image (data MANIFEST),
   // and treating every hole as an edge dropped most of its keypoints (issue 10).
   const int r = config.depth_edge_radius_px;
-  const float tolerance = static_cast<float>(config.depth_edge_relative) * z;
+  // The larger of the relative jump and the noise floor (LiftConfig::edge_noise_sigmas).
+  const double noise_floor =
+      config.edge_noise_sigmas * std::sqrt(2.0) * config.view_depth_noise_at_1m_m * z * z;
+  const float tolerance = static_cast<float>(std::max(config.depth_edge_relative * z, noise_floor));
   for (int y = std::max(0, v - r); y <= std::min(depth.rows - 1, v + r); ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {

@@ -10,6 +10,10 @@
 
 namespace zeroreg {
 
+// `lift` for one view: its view_depth_noise_at_1m_m measured from the view's depth
+// (src/estimate/depth_noise.hpp), when edge_noise_sigmas is on.
+LiftConfig LiftForView(const LiftConfig& lift, const View& view);
+
 // Back-projects pixel (x, y) of `view` into the scan frame: X_cam = z K^-1 [x y 1]^T, then
 // T_scan_camera. Returns nullopt when the depth there is invalid, outside
 // [min_depth_m, max_depth_m], or on a depth edge (see LiftConfig).

@@ -6,7 +6,7 @@ PerceivedScan ImageCorrespondenceSource::Perceive(const Scan& scan, StageTimer& 
   PerceivedScan out;
   timer.Restart();
   for (const View& view : scan.views) {
-    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift_));
+    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, LiftForView(lift_, view)));
   }
   out.num_keypoints = CountKeypoints(out.view_features);
   timer.Mark("features");

@@ -88,6 +88,7 @@ void Visit(V& v, LiftConfig& c) {
   v("max_depth_m", c.max_depth_m, Positive());
   v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
   v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
+  v("edge_noise_sigmas", c.edge_noise_sigmas, AtLeast(0));
   v("holes_are_edges", c.holes_are_edges);
 }
 template <typename V>

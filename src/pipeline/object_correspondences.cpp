@@ -107,7 +107,8 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
   for (size_t v = 0; v < scan.views.size(); ++v) {
     const View& view = scan.views[v];
     timer.Restart();
-    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, config_.lift));
+    const LiftConfig lift = LiftForView(config_.lift, view);
+    out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift));
     timer.Mark("features");
     // Either detections segmented one by one (§3.2), or, without detection, class-agnostic
     // depth regions that come with their masks.
@@ -127,7 +128,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
         found.push_back(std::move(o));
       }
       timer.Mark("segment");
-      TopUpWithProposals(view, config_.objects, config_.lift, &found);
+      TopUpWithProposals(view, config_.objects, lift, &found);
       timer.Mark("detect");
     } else {
       for (Proposal& p : DepthProposals(view.depth)) {
@@ -147,7 +148,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
     }
     for (ObjectObservation& o : found) {
       o.view = static_cast<int>(v);
-      o.points = LiftMask(view, o.mask, config_.objects, config_.lift);
+      o.points = LiftMask(view, o.mask, config_.objects, lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
       o.appearance = pooler ? pooler->Pool(o.mask) : ColourAppearance(view.color, o.mask);
       if (embedder_ != nullptr && o.semantic.size() == 0) {

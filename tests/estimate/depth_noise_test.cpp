@@ -7,6 +7,7 @@
 #include <random>
 
 #include "estimate/icp.hpp"
+#include "estimate/lift.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/io.hpp"
 
@@ -80,6 +81,57 @@ TEST(DepthNoise, IcpSamplesNoisyDepthOnTheSparserGrid) {
   EXPECT_EQ(points(0.0015, 0), points(0.0015, 2));
   EXPECT_EQ(points(0.006, 0), points(0.006, 4));
   EXPECT_LT(points(0.006, 0), points(0.006, 2));
+}
+
+// Lifting (LiftPixel) with the view's measured noise (LiftForView): noise alone no longer makes
+// edges, real depth jumps (the box 0.5 m in front of the wall) still do.
+TEST(DepthNoise, LiftingIgnoresNoiseButNotRealEdges) {
+  const View view = NoisyWall(0.01, 5);
+  const LiftConfig plain;
+  const LiftConfig measured = LiftForView(plain, view);
+  EXPECT_NEAR(measured.view_depth_noise_at_1m_m, 0.01, 0.001);
+  const auto lifted = [&](const LiftConfig& lift, int x0, int x1) {
+    int n = 0;
+    for (int y = 8; y < 472; y += 4) {
+      for (int x = x0; x < x1; x += 4) {
+        n += LiftPixel(view, Eigen::Vector2f(static_cast<float>(x), static_cast<float>(y)), lift)
+                 ? 1
+                 : 0;
+      }
+    }
+    return n;
+  };
+  // The far, noisy right part of the wall (2.4-3 m: sigma 6-9 cm): mostly refused as "edges"
+  // without the noise floor, mostly lifted with it.
+  const int samples = 116 * 38;
+  EXPECT_LT(lifted(plain, 480, 632), samples / 2);
+  EXPECT_GT(lifted(measured, 480, 632), samples * 9 / 10);
+  // Pixels on the box's side edges (x = 251 and 399 +- 1 px) stay refused.
+  for (const int x : {250, 251, 252, 398, 399, 400}) {
+    EXPECT_FALSE(LiftPixel(view, Eigen::Vector2f(static_cast<float>(x), 300.0f), measured)) << x;
+  }
+}
+
+// On a real Kinect v1 frame the noise floor is below 5 % of the depth wherever the depth is under
+// 5 m, so lifting is exactly what it was without it.
+TEST(DepthNoise, KinectFramesLiftAsBefore) {
+  const Scan scan = LoadScan(testing::RedkitchenDir() + "@0");
+  const View& view = scan.views[0];
+  const LiftConfig plain;
+  const LiftConfig measured = LiftForView(plain, view);
+  ASSERT_GT(measured.view_depth_noise_at_1m_m, 0.0);
+  int compared = 0;
+  for (int y = 0; y < view.depth.rows; y += 2) {
+    for (int x = 0; x < view.depth.cols; x += 2) {
+      if (!(view.depth.at<float>(y, x) < 5.0f)) continue;
+      const Eigen::Vector2f pixel(static_cast<float>(x), static_cast<float>(y));
+      ASSERT_EQ(LiftPixel(view, pixel, plain).has_value(),
+                LiftPixel(view, pixel, measured).has_value())
+          << x << " " << y;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 50000);
 }
 
 }  // namespace
