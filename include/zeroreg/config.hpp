@@ -310,7 +310,7 @@ struct RefineConfig {
   // a scan's depth measures noisier than 3 mm at 1 m (twice Kinect v1;
   // src/estimate/depth_noise.hpp), 0 takes verify.pixel_stride's grid instead (every 4th pixel
   // at 640 px): a noisy surface is thicker than a voxel and denser readings only fill more voxels
-  // (docs/CONFIG.md, "Depth noise": 1.6-3x faster on noisy copies of redkitchen, no less right).
+  // (docs/CONFIG.md, "Depth noise": 1.6-3x faster a pair on noisy copies of redkitchen).
   int pixel_stride = 0;
   double voxel_coarse_m = 0.05;
   double max_distance_coarse_m = 0.15;
