@@ -46,11 +46,17 @@ for size in "${sizes[@]}"; do
     esac
     "$resize" "$data_root/$scene" "cache/resized/$size$suffix/$scene" "$width" "$height" "$noise"
   done
+  # A failed run (reported by bench-suite.sh) must not stop the other sizes.
   METHODS=zeroreg DATA="cache/resized/$size$suffix" RESULTS="$results/$size$suffix" \
     LIST_FILTER="$filter" \
-    bash scripts/bench-suite.sh run
+    bash scripts/bench-suite.sh run || status=1
 done
 for size in "${sizes[@]}"; do
   echo "## $size$suffix"
-  cat "$results/$size$suffix/suite.md"
+  if [[ -f "$results/$size$suffix/suite.md" ]]; then
+    cat "$results/$size$suffix/suite.md"
+  else
+    echo "(no table: every run of this size failed)"
+  fi
 done
+exit "${status:-0}"

@@ -83,7 +83,9 @@ std::uint32_t Seed(const std::string& name) {
   return h;
 }
 
-// Adds sigma(d) = noise_at_1m * d^2 Gaussian noise to a CV_16U millimetre depth image.
+// Adds sigma(d) = noise_at_1m * d^2 Gaussian noise to a CV_16U millimetre depth image. 0 and
+// 65535 mark missing readings (7-Scenes uses both) and stay missing; a reading the noise pushes
+// out of the 16-bit range becomes missing too, as a real sensor drops it.
 void AddDepthNoise(cv::Mat& depth_mm, double noise_at_1m, std::uint32_t seed) {
   if (depth_mm.type() != CV_16UC1) throw std::runtime_error("depth noise needs 16-bit depth PNGs");
   std::mt19937 rng(seed);
@@ -91,10 +93,10 @@ void AddDepthNoise(cv::Mat& depth_mm, double noise_at_1m, std::uint32_t seed) {
   for (int y = 0; y < depth_mm.rows; ++y) {
     auto* row = depth_mm.ptr<std::uint16_t>(y);
     for (int x = 0; x < depth_mm.cols; ++x) {
-      if (row[x] == 0) continue;
+      if (row[x] == 0 || row[x] == 65535) continue;
       const double d = row[x] / 1000.0;
-      const double noisy_mm = 1000.0 * (d + noise_at_1m * d * d * unit(rng));
-      row[x] = static_cast<std::uint16_t>(std::clamp(std::lround(noisy_mm), 1L, 65535L));
+      const long noisy_mm = std::lround(1000.0 * (d + noise_at_1m * d * d * unit(rng)));
+      row[x] = noisy_mm >= 1 && noisy_mm < 65535 ? static_cast<std::uint16_t>(noisy_mm) : 0;
     }
   }
 }
@@ -126,7 +128,8 @@ int Run(const fs::path& scene, const fs::path& out, int width, int height, doubl
     const std::string stem = name.substr(0, name.size() - kColour.size());
     const cv::Mat image = Read(colour_path, cv::IMREAD_COLOR);
     const cv::Mat depth = Read(frames / (stem + kDepth), cv::IMREAD_UNCHANGED);
-    const bool shrink = width * height < image.cols * image.rows;
+    const bool shrink =
+        static_cast<long>(width) * height < static_cast<long>(image.cols) * image.rows;
     cv::Mat colour_out, depth_out;
     cv::resize(image, colour_out, cv::Size(width, height), 0, 0,
                shrink ? cv::INTER_AREA : cv::INTER_LINEAR);
@@ -142,7 +145,9 @@ int Run(const fs::path& scene, const fs::path& out, int width, int height, doubl
     sy = static_cast<double>(height) / image.rows;
   }
   WriteIntrinsics(out / "camera-intrinsics.txt", intrinsics, sx, sy);
-  std::ofstream(done_marker) << colour.size() << " frames\n";
+  std::ofstream marker(done_marker);
+  marker << colour.size() << " frames\n";
+  if (!marker) throw std::runtime_error(done_marker.string() + ": could not write");
   std::cout << out.string() << ": " << colour.size() << " frames at " << width << "x" << height
             << "\n";
   return 0;
@@ -157,9 +162,26 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    const int width = std::stoi(argv[3]), height = std::stoi(argv[4]);
-    if (width < 16 || height < 16) throw std::runtime_error("WIDTH and HEIGHT must be >= 16 px");
-    const double noise = argc == 6 ? std::stod(argv[5]) : 0.0;
+    const auto number = [](const char* text, const char* what) {
+      std::size_t used = 0;
+      double value = 0;
+      try {
+        value = std::stod(text, &used);
+      } catch (const std::logic_error&) {  // invalid_argument, out_of_range
+        used = 0;
+      }
+      if (used == 0 || used != std::string(text).size()) {
+        throw std::runtime_error(std::string(what) + " '" + text + "' is not a number");
+      }
+      return value;
+    };
+    const double w = number(argv[3], "WIDTH"), h = number(argv[4], "HEIGHT");
+    if (!(w >= 16 && h >= 16 && w <= 16384 && h <= 16384) || w != static_cast<int>(w) ||
+        h != static_cast<int>(h)) {
+      throw std::runtime_error("WIDTH and HEIGHT must be whole numbers of pixels in [16, 16384]");
+    }
+    const int width = static_cast<int>(w), height = static_cast<int>(h);
+    const double noise = argc == 6 ? number(argv[5], "DEPTH_NOISE_AT_1M_M") : 0.0;
     if (!(noise >= 0 && noise < 1)) {
       throw std::runtime_error("DEPTH_NOISE_AT_1M_M must be in [0, 1) metres");
     }

@@ -304,13 +304,13 @@ struct RefineConfig {
   //   final:  voxel_m points, gate max_distance_final_m (one voxel: only pairs that already
   //           agree, so fringe pairs no longer bias the fit), max_iterations.
   // The views' depth pixels ICP starts from, before thinning to the stages' voxels: every
-  // pixel_stride-th pixel. 0 = follow the image size with twice verify.pixel_stride's columns
-  // (every other pixel at 640 and 540 px wide, every 4th at 1280; src/estimate/lift.hpp): a 2 cm
-  // voxel at 1 m is 12 Kinect pixels wide, so that still leaves several readings per voxel. Where
-  // a scan's depth measures noisier than 3 mm at 1 m (twice Kinect v1;
-  // src/estimate/depth_noise.hpp), 0 takes verify.pixel_stride's grid instead (every 4th pixel
-  // at 640 px): a noisy surface is thicker than a voxel and denser readings only fill more voxels
-  // (docs/CONFIG.md, "Depth noise": 1.6-3x faster a pair on noisy copies of redkitchen).
+  // pixel_stride-th pixel. 0 = follow the image size with 320 grid columns, twice the other
+  // stages' auto grid (every other pixel at 640 and 540 px wide, every 4th at 1280;
+  // src/estimate/lift.hpp): a 2 cm voxel at 1 m is 12 Kinect pixels wide, so that still leaves
+  // several readings per voxel. Where a scan's depth measures noisier than 3 mm at 1 m (twice
+  // Kinect v1; src/estimate/depth_noise.hpp), 0 takes 160 columns instead (every 4th pixel at
+  // 640 px): a noisy surface is thicker than a voxel and denser readings only fill more voxels
+  // (docs/CONFIG.md, "Depth noise": faster a pair on noisy copies of redkitchen).
   int pixel_stride = 0;
   double voxel_coarse_m = 0.05;
   double max_distance_coarse_m = 0.15;

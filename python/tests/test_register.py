@@ -248,9 +248,11 @@ def test_depth_noise_is_measured_from_the_depth():
     a = zeroreg.depth_noise_at_1m_m({"views": [view]})
     assert 0.0012 < a < 0.0022
     rng = np.random.default_rng(0)
-    depth_m = view["depth"].astype(np.float64) / view.get("depth_scale", 1000.0)
+    raw = view["depth"]
+    valid = (raw > 0) & (raw < 65535)  # 7-Scenes marks missing depth with 0 and 65535
+    depth_m = np.where(valid, raw.astype(np.float64) / view.get("depth_scale", 1000.0), 0.0)
     noisy = depth_m + 0.01 * depth_m**2 * rng.standard_normal(depth_m.shape)
-    noisy_view = dict(view, depth=np.where(depth_m > 0, noisy, 0.0).astype(np.float32))
+    noisy_view = dict(view, depth=np.where(valid & (noisy > 0), noisy, 0.0).astype(np.float32))
     noisy_view.pop("depth_scale", None)
     b = zeroreg.depth_noise_at_1m_m({"views": [noisy_view]})
     assert abs(b - np.hypot(0.01, a)) < 0.001
