@@ -7,21 +7,32 @@
 #include "estimate/lift.hpp"
 
 namespace zeroreg {
+namespace {
+
+// The upper median (element size/2 in order) of a non-empty vector; reorders it.
+template <typename T>
+double UpperMedian(std::vector<T>& values) {
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return static_cast<double>(*mid);
+}
+
+}  // namespace
 
 std::optional<double> MeasureDepthNoiseAt1m(const View& view) {
   const cv::Mat& depth = view.depth;
   if (depth.empty() || depth.type() != CV_32FC1) return std::nullopt;
+  // Differences k px apart, centred on one pixel per grid cell (every k-th row and column): plenty,
+  // ~38000 differences at 640x480.
   const int k = PixelGrid{}.StrideFor(depth.cols);
-  // One sample per grid cell (every k-th row and column) is plenty: ~38000 differences at 640x480.
-  const int step = k;
   std::vector<float> differences;
-  differences.reserve(static_cast<size_t>(depth.rows / step) * (depth.cols / step) * 2);
+  differences.reserve(static_cast<size_t>(depth.rows / k) * (depth.cols / k) * 2);
   const auto inverse = [&](int y, int x) {
     const float z = depth.at<float>(y, x);
     return z > 0 ? 1.0f / z : 0.0f;
   };
-  for (int y = k; y + k < depth.rows; y += step) {
-    for (int x = k; x + k < depth.cols; x += step) {
+  for (int y = k; y + k < depth.rows; y += k) {
+    for (int x = k; x + k < depth.cols; x += k) {
       const float c = inverse(y, x);
       if (c == 0) continue;
       const float left = inverse(y, x - k), right = inverse(y, x + k);
@@ -31,16 +42,11 @@ std::optional<double> MeasureDepthNoiseAt1m(const View& view) {
     }
   }
   if (differences.size() < 1000) return std::nullopt;
-  const auto median = [](std::vector<float>& v) {
-    auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return static_cast<double>(*mid);
-  };
-  const double centre = median(differences);
+  const double centre = UpperMedian(differences);
   for (float& d : differences) d = static_cast<float>(std::abs(d - centre));
   // MAD -> standard deviation of a normal (1.4826), then the spread sqrt(6) of the sum of three
   // independent readings with weights 1, 1, -2.
-  return 1.4826 * median(differences) / std::sqrt(6.0);
+  return 1.4826 * UpperMedian(differences) / std::sqrt(6.0);
 }
 
 std::optional<double> MeasureDepthNoiseAt1m(const Scan& scan) {
@@ -49,9 +55,7 @@ std::optional<double> MeasureDepthNoiseAt1m(const Scan& scan) {
     if (const auto a = MeasureDepthNoiseAt1m(view)) per_view.push_back(*a);
   }
   if (per_view.empty()) return std::nullopt;
-  auto mid = per_view.begin() + static_cast<std::ptrdiff_t>(per_view.size() / 2);
-  std::nth_element(per_view.begin(), mid, per_view.end());
-  return *mid;
+  return UpperMedian(per_view);
 }
 
 }  // namespace zeroreg
