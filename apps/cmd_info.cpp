@@ -1,8 +1,10 @@
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 
 #include "commands.hpp"
 #include "config_options.hpp"
+#include "estimate/depth_noise.hpp"
 #include "features/xfeat_extractor.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/assets.hpp"
@@ -43,9 +45,22 @@ Runner AddInfoCommand(CLI::App& app) {
                   scan.views.size(), scan.points.size(), scan.T_world_scan_gt ? "yes" : "no");
       for (const View& v : scan.views) {
         const double valid = cv::countNonZero(v.depth > 0) * 100.0 / v.depth.total();
-        std::printf("  view %s: %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f, valid depth %.1f%%\n",
+        std::printf("  view %s: %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f, valid depth %.1f%%",
                     v.name.c_str(), v.color.cols, v.color.rows, v.intrinsics.fx, v.intrinsics.fy,
                     v.intrinsics.cx, v.intrinsics.cy, valid);
+        // What the noise floors of lifting, segmentation and ICP's grid will use
+        // (docs/CONFIG.md, "Depth noise").
+        if (const std::optional<double> a = MeasureDepthNoiseAt1m(v)) {
+          std::printf(", depth noise %.2f mm at 1 m%s", *a * 1000.0,
+                      *a > kNoisyDepthAt1mM ? " (noisy: ICP samples the coarser grid)" : "");
+        } else {
+          std::printf(", depth noise not measurable");
+        }
+        std::printf("\n");
+      }
+      if (const std::optional<double> a = MeasureDepthNoiseAt1m(scan)) {
+        std::printf("  depth noise of the scan (median of its views): %.2f mm at 1 m\n",
+                    *a * 1000.0);
       }
     }
     return kExitOk;

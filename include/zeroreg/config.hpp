@@ -241,6 +241,15 @@ struct SegmenterConfig {
   // the background are removed by the depth band. Larger radii erase thin parts (chair rails).
   int depth_edge_radius_px = 3;
   double depth_edge_relative = 0.05;
+  // Noisy depth is neither an edge nor off the object's layer. With sigma(d) = a d^2 the depth
+  // noise of the view (a measured from its depth, src/estimate/depth_noise.hpp), a window counts
+  // as a depth edge only when its readings also spread over more than 2 * depth_noise_sigmas *
+  // sigma(d) (each reading of one surface may lie that many sigmas off it, either way), and the
+  // depth band is at least depth_noise_sigmas * sigma(d) wide. For Kinect v1 depth (a = 1.7 mm)
+  // the edge floor passes depth_edge_relative only beyond 3.6 m and the band floor passes the
+  // relative term only beyond 4.4 m; a stereo camera with 10 mm at 1 m lost most of its masks
+  // beyond 1 m without it (docs/CONFIG.md, "Depth noise"). 0 = no floor (the steps as before).
+  double depth_noise_sigmas = 4.0;
   // Final erosion of the mask (pixels, 3x3 cross steps): trims the colour boundary, which itself
   // is uncertain by about a pixel after upsampling from the working resolution.
   int erosion_px = 1;

@@ -8,11 +8,13 @@
 namespace zeroreg {
 
 LiftConfig LiftForView(const LiftConfig& lift, const View& view) {
+  return LiftForView(lift,
+                     lift.edge_noise_sigmas > 0 ? MeasureDepthNoiseAt1m(view).value_or(0.0) : 0.0);
+}
+
+LiftConfig LiftForView(const LiftConfig& lift, double view_depth_noise_at_1m_m) {
   LiftConfig out = lift;
-  out.view_depth_noise_at_1m_m = 0.0;
-  if (lift.edge_noise_sigmas > 0) {
-    out.view_depth_noise_at_1m_m = MeasureDepthNoiseAt1m(view).value_or(0.0);
-  }
+  out.view_depth_noise_at_1m_m = lift.edge_noise_sigmas > 0 ? view_depth_noise_at_1m_m : 0.0;
   return out;
 }
 

@@ -13,6 +13,8 @@ namespace zeroreg {
 // `lift` for one view: its view_depth_noise_at_1m_m measured from the view's depth
 // (src/estimate/depth_noise.hpp), when edge_noise_sigmas is on.
 LiftConfig LiftForView(const LiftConfig& lift, const View& view);
+// The same with the view's a already measured (0 = unknown), for callers that use it elsewhere too.
+LiftConfig LiftForView(const LiftConfig& lift, double view_depth_noise_at_1m_m);
 
 // Back-projects pixel (x, y) of `view` into the scan frame: X_cam = z K^-1 [x y 1]^T, then
 // T_scan_camera. Returns nullopt when the depth there is invalid, outside

@@ -8,6 +8,7 @@
 #include <set>
 #include <tuple>
 
+#include "estimate/depth_noise.hpp"
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
 #include "object_match/rigidity.hpp"
@@ -107,7 +108,13 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
   for (size_t v = 0; v < scan.views.size(); ++v) {
     const View& view = scan.views[v];
     timer.Restart();
-    const LiftConfig lift = LiftForView(config_.lift, view);
+    // The view's depth noise, measured once for the two noise floors that use it: lifting's
+    // depth-edge test and the segmenter's depth steps (docs/CONFIG.md, "Depth noise").
+    const bool noise_needed =
+        config_.lift.edge_noise_sigmas > 0 || config_.segmenter.depth_noise_sigmas > 0;
+    const double depth_noise_at_1m_m =
+        noise_needed ? MeasureDepthNoiseAt1m(view).value_or(0.0) : 0.0;
+    const LiftConfig lift = LiftForView(config_.lift, depth_noise_at_1m_m);
     out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift));
     timer.Mark("features");
     // Either detections segmented one by one (§3.2), or, without detection, class-agnostic
@@ -120,7 +127,8 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       const std::vector<Detection> detections = detector_.Detect(view.color, image_name);
       timer.Mark("detect");
       // One call per view: SAM encodes the image once for all its boxes.
-      masks = segmenter_.SegmentView(view.color, view.depth, detections, image_name);
+      masks = segmenter_.SegmentView(view.color, view.depth, detections, image_name,
+                                     depth_noise_at_1m_m);
       for (size_t d = 0; d < detections.size(); ++d) {
         ObjectObservation o;
         o.detection = detections[d];

@@ -94,8 +94,8 @@ SamSegmenter::RawMask SamSegmenter::Decode(const ImageEmbedding& embedding, cv::
   return raw;
 }
 
-cv::Mat SamSegmenter::Refine(const RawMask& raw, const cv::Mat& depth_m,
-                             const Detection& detection) const {
+cv::Mat SamSegmenter::Refine(const RawMask& raw, const cv::Mat& depth_m, const Detection& detection,
+                             double depth_noise_at_1m_m) const {
   cv::Mat mask = cv::Mat::zeros(depth_m.size(), CV_8UC1);
   if (raw.predicted_iou < config_.sam_min_predicted_iou) return mask;
   const cv::Rect box = detail::BoxPixelRect(detection.box, depth_m.size());
@@ -103,11 +103,11 @@ cv::Mat SamSegmenter::Refine(const RawMask& raw, const cv::Mat& depth_m,
   // The box prompted the mask: anything SAM adds outside it belongs to a neighbour.
   const cv::Mat seed = raw.mask(box);
   if (cv::countNonZero(seed) == 0) return mask;
-  const cv::Mat edges = detail::BoxDepthEdges(depth_m, box, config_);
+  const cv::Mat edges = detail::BoxDepthEdges(depth_m, box, config_, depth_noise_at_1m_m);
   const double size_per_metre_depth =
       std::min(box.width, box.height) / (config_.focal_length_fraction * depth_m.cols);
-  const cv::Mat layer =
-      detail::DepthLayer(depth_m(box), edges, seed, seed, size_per_metre_depth, config_);
+  const cv::Mat layer = detail::DepthLayer(depth_m(box), edges, seed, seed, size_per_metre_depth,
+                                           config_, depth_noise_at_1m_m);
   if (!layer.empty()) layer.copyTo(mask(box));
   return mask;
 }
@@ -129,22 +129,23 @@ void RequireSamInputs(const cv::Mat& bgr, const cv::Mat& depth_m, const std::str
 
 ViewMasks SamSegmenter::SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
                                     const std::vector<Detection>& detections,
-                                    const std::string& image_name) {
+                                    const std::string& image_name, double depth_noise_at_1m_m) {
   RequireSamInputs(bgr, depth_m, image_name);
   ViewMasks out;
   if (detections.empty()) return out;
   out.embedding = Encode(bgr);
   for (const Detection& d : detections) {
     const RawMask raw = Decode(out.embedding, bgr.size(), d.box);
-    out.masks.push_back(Refine(raw, depth_m, d));
+    out.masks.push_back(Refine(raw, depth_m, d, depth_noise_at_1m_m));
     out.predicted_iou.push_back(raw.predicted_iou);
   }
   return out;
 }
 
 cv::Mat SamSegmenter::Segment(const cv::Mat& bgr, const cv::Mat& depth_m,
-                              const Detection& detection, int, const std::string& image_name) {
-  return SegmentView(bgr, depth_m, {detection}, image_name).masks.at(0);
+                              const Detection& detection, int, const std::string& image_name,
+                              double depth_noise_at_1m_m) {
+  return SegmentView(bgr, depth_m, {detection}, image_name, depth_noise_at_1m_m).masks.at(0);
 }
 
 }  // namespace zeroreg

@@ -24,10 +24,10 @@ class SamSegmenter : public Segmenter {
   std::string name() const override { return "sam"; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int index,
-                  const std::string& image_name) override;
+                  const std::string& image_name, double depth_noise_at_1m_m = 0.0) override;
   ViewMasks SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
-                        const std::vector<Detection>& detections,
-                        const std::string& image_name) override;
+                        const std::vector<Detection>& detections, const std::string& image_name,
+                        double depth_noise_at_1m_m = 0.0) override;
 
   // The encoder's output for `bgr` (CV_8UC3): 256 x 64 x 64, see ImageEmbedding.
   ImageEmbedding Encode(const cv::Mat& bgr) const;
@@ -46,7 +46,8 @@ class SamSegmenter : public Segmenter {
  private:
   // The final mask of one detection: SAM's mask (inside the box), then the depth steps; all zero
   // when the predicted IoU is below the threshold.
-  cv::Mat Refine(const RawMask& raw, const cv::Mat& depth_m, const Detection& detection) const;
+  cv::Mat Refine(const RawMask& raw, const cv::Mat& depth_m, const Detection& detection,
+                 double depth_noise_at_1m_m) const;
 
   SegmenterConfig config_;
   std::unique_ptr<OnnxModel> encoder_, decoder_;

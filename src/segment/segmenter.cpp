@@ -42,7 +42,7 @@ class BoxSegmenter : public Segmenter {
  public:
   std::string name() const override { return "box"; }
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
-                  const std::string& image_name) override {
+                  const std::string& image_name, double = 0.0) override {
     RequireInputs(bgr, depth_m, image_name);
     cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
     const cv::Rect r = detail::BoxPixelRect(detection.box, bgr.size());
@@ -62,7 +62,7 @@ class FileSegmenter : public Segmenter {
   explicit FileSegmenter(const SegmenterConfig& config) : masks_dir_(config.masks_dir) {}
   std::string name() const override { return "file"; }
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection&, int index,
-                  const std::string& image_name) override {
+                  const std::string& image_name, double = 0.0) override {
     RequireInputs(bgr, depth_m, image_name);
     const std::string path = detail::MaskFilePath(masks_dir_, image_name, index);
     const cv::Mat raw =
@@ -112,25 +112,25 @@ class DepthSegmenter : public Segmenter {
   std::string name() const override { return config_.backend; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
-                  const std::string& image_name) override {
+                  const std::string& image_name, double depth_noise_at_1m_m = 0.0) override {
     RequireInputs(bgr, depth_m, image_name);
     cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
     const cv::Rect box = detail::BoxPixelRect(detection.box, bgr.size());
     if (box.empty()) return mask;
 
     // Everything after GrabCut works inside the box: depth of the box, and its depth edges.
-    const cv::Mat edges = detail::BoxDepthEdges(depth_m, box, config_);
-    const cv::Mat depth = depth_m(box);
-    const double size_per_metre_depth =
-        std::min(box.width, box.height) / (config_.focal_length_fraction * bgr.cols);
+    const BoxDepth in_box{
+        depth_m(box), detail::BoxDepthEdges(depth_m, box, config_, depth_noise_at_1m_m),
+        std::min(box.width, box.height) / (config_.focal_length_fraction * bgr.cols),
+        depth_noise_at_1m_m};
 
     cv::Mat result;
     if (config_.backend == "grabcut-depth") {
-      result = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth, cv::Mat());
+      result = GrabCutLayer(bgr, box, in_box, cv::Mat());
     } else {
-      result = BoxLayer(depth, edges, size_per_metre_depth);
-      if (config_.backend == "depth-grabcut" && !HasOutline(result, depth)) {
-        result = GrabCutLayer(bgr, box, depth, edges, size_per_metre_depth, result);
+      result = BoxLayer(in_box);
+      if (config_.backend == "depth-grabcut" && !HasOutline(result, in_box.depth)) {
+        result = GrabCutLayer(bgr, box, in_box, result);
       }
     }
     if (!result.empty()) result.copyTo(mask(box));
@@ -138,31 +138,39 @@ class DepthSegmenter : public Segmenter {
   }
 
  private:
+  // What the depth steps of one box work on (box coordinates).
+  struct BoxDepth {
+    cv::Mat depth;                      // the box's depth, metres
+    cv::Mat edges;                      // its depth edges (detail::BoxDepthEdges)
+    double size_per_metre_depth = 0.0;  // box shorter side / focal length
+    double depth_noise_at_1m_m = 0.0;   // the view's a (0 = unknown)
+  };
+
   // GrabCut's mask kept to its depth layer, or the box's depth layer when GrabCut fails or loses
   // the object (less than min_box_fraction of the box). `box_layer` is that layer when the caller
   // has made it already (BoxLayer), else empty: made here only if needed.
-  cv::Mat GrabCutLayer(const cv::Mat& bgr, const cv::Rect& box, const cv::Mat& depth,
-                       const cv::Mat& edges, double size_per_metre_depth,
+  cv::Mat GrabCutLayer(const cv::Mat& bgr, const cv::Rect& box, const BoxDepth& in_box,
                        const cv::Mat& box_layer) const {
     const cv::Mat seed = GrabCutInBox(bgr, box);
     cv::Mat result;
-    if (!seed.empty()) result = DepthLayer(depth, edges, seed, seed, size_per_metre_depth);
+    if (!seed.empty()) result = DepthLayer(in_box, seed, seed);
     if (result.empty() || cv::countNonZero(result) < config_.min_box_fraction * box.area()) {
-      result = box_layer.empty() ? BoxLayer(depth, edges, size_per_metre_depth) : box_layer;
+      result = box_layer.empty() ? BoxLayer(in_box) : box_layer;
     }
     return result;
   }
 
   // The dominant depth layer of the box, found around the median depth of its central half
   // (objects are centred in their boxes); of the whole box when the centre has no depth.
-  cv::Mat BoxLayer(const cv::Mat& depth, const cv::Mat& edges, double size_per_metre_depth) const {
-    cv::Mat all(depth.size(), CV_8UC1, cv::Scalar(255));
-    cv::Mat centre = cv::Mat::zeros(depth.size(), CV_8UC1);
-    centre(cv::Rect(depth.cols / 4, depth.rows / 4, std::max(1, depth.cols / 2),
-                    std::max(1, depth.rows / 2)))
+  cv::Mat BoxLayer(const BoxDepth& in_box) const {
+    const cv::Size size = in_box.depth.size();
+    cv::Mat all(size, CV_8UC1, cv::Scalar(255));
+    cv::Mat centre = cv::Mat::zeros(size, CV_8UC1);
+    centre(cv::Rect(size.width / 4, size.height / 4, std::max(1, size.width / 2),
+                    std::max(1, size.height / 2)))
         .setTo(255);
-    cv::Mat result = DepthLayer(depth, edges, all, centre, size_per_metre_depth);
-    if (result.empty()) result = DepthLayer(depth, edges, all, all, size_per_metre_depth);
+    cv::Mat result = DepthLayer(in_box, all, centre);
+    if (result.empty()) result = DepthLayer(in_box, all, all);
     return result;
   }
 
@@ -233,9 +241,10 @@ class DepthSegmenter : public Segmenter {
     return fg_crop(cv::Rect(box.x - crop.x, box.y - crop.y, box.width, box.height)).clone();
   }
 
-  cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
-                     const cv::Mat& reference, double size_per_metre_depth) const {
-    return detail::DepthLayer(depth, edges, candidates, reference, size_per_metre_depth, config_);
+  cv::Mat DepthLayer(const BoxDepth& in_box, const cv::Mat& candidates,
+                     const cv::Mat& reference) const {
+    return detail::DepthLayer(in_box.depth, in_box.edges, candidates, reference,
+                              in_box.size_per_metre_depth, config_, in_box.depth_noise_at_1m_m);
   }
 
   SegmenterConfig config_;
@@ -284,6 +293,8 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
           "depth_edge_radius_px", std::to_string(config.depth_edge_radius_px), "0..64 pixels");
   require(config.depth_edge_relative > 0.0 && std::isfinite(config.depth_edge_relative),
           "depth_edge_relative", num(config.depth_edge_relative), "a value > 0");
+  require(config.depth_noise_sigmas >= 0.0 && std::isfinite(config.depth_noise_sigmas),
+          "depth_noise_sigmas", num(config.depth_noise_sigmas), "a value >= 0 (0 = no floor)");
   require(config.erosion_px >= 0 && config.erosion_px <= 64, "erosion_px",
           std::to_string(config.erosion_px), "0..64 pixels");
   require(config.min_box_fraction >= 0.0 && config.min_box_fraction <= 1.0, "min_box_fraction",
@@ -309,10 +320,11 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
 
 ViewMasks Segmenter::SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
                                  const std::vector<Detection>& detections,
-                                 const std::string& image_name) {
+                                 const std::string& image_name, double depth_noise_at_1m_m) {
   ViewMasks out;
   for (size_t d = 0; d < detections.size(); ++d) {
-    out.masks.push_back(Segment(bgr, depth_m, detections[d], static_cast<int>(d), image_name));
+    out.masks.push_back(
+        Segment(bgr, depth_m, detections[d], static_cast<int>(d), image_name, depth_noise_at_1m_m));
     out.predicted_iou.push_back(-1.0f);
   }
   return out;
@@ -322,7 +334,7 @@ namespace detail {
 
 cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
                    const cv::Mat& reference, double size_per_metre_depth,
-                   const SegmenterConfig& config) {
+                   const SegmenterConfig& config, double depth_noise_at_1m_m) {
   std::vector<float> values;
   values.reserve(static_cast<size_t>(depth.total()));
   for (int v = 0; v < depth.rows; ++v) {
@@ -338,8 +350,11 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
   const double median = *mid;
   // S = the box's shorter side in metres at the median depth (pinhole: pixels * depth / focal).
   const double size_m = size_per_metre_depth * median;
-  const double band = std::max(config.depth_band_min_m, config.depth_band_relative * median +
-                                                            config.depth_band_size_factor * size_m);
+  // The noise floor: a reading of the object's surface may lie depth_noise_sigmas sigma(d) off.
+  const double noise_band = config.depth_noise_sigmas * depth_noise_at_1m_m * median * median;
+  const double band = std::max(
+      {config.depth_band_min_m,
+       config.depth_band_relative * median + config.depth_band_size_factor * size_m, noise_band});
 
   cv::Mat out = cv::Mat::zeros(depth.size(), CV_8UC1);
   for (int v = 0; v < depth.rows; ++v) {
@@ -358,11 +373,16 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
   return out;
 }
 
-cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config) {
+cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
+                      double depth_noise_at_1m_m) {
   const int r = config.depth_edge_radius_px;
   const cv::Rect padded = cv::Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
                           cv::Rect(0, 0, depth_m.cols, depth_m.rows);
-  const cv::Mat edges_padded = DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative);
+  // Readings of one surface each within depth_noise_sigmas sigma(d) of it spread over at most
+  // twice that (SegmenterConfig::depth_noise_sigmas).
+  const double noise_range_at_1m = 2.0 * config.depth_noise_sigmas * depth_noise_at_1m_m;
+  const cv::Mat edges_padded =
+      DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative, noise_range_at_1m);
   return edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height)).clone();
 }
 
@@ -376,7 +396,8 @@ cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size) {
   return cv::Rect(x1, y1, x2 - x1, y2 - y1);
 }
 
-cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative) {
+cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
+                      double noise_range_at_1m) {
   cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8UC1);
   if (radius <= 0 || depth_m.empty()) return edges;
   // Invalid readings (0, NaN, inf) become 0 so that the window minimum sees them.
@@ -395,7 +416,9 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative) {
     const float* h = hi.ptr<float>(v);
     uchar* e = edges.ptr<uchar>(v);
     for (int u = 0; u < depth.cols; ++u) {
-      if (d[u] > 0.0f && (l[u] <= 0.0f || h[u] - l[u] > relative * d[u])) e[u] = 255;
+      if (d[u] <= 0.0f) continue;
+      const double jump = std::max(relative * d[u], noise_range_at_1m * d[u] * d[u]);
+      if (l[u] <= 0.0f || h[u] - l[u] > jump) e[u] = 255;
     }
   }
   return edges;

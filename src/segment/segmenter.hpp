@@ -43,15 +43,19 @@ class Segmenter {
   // Mask of `detection` (index `index` among the image's detections) in the image `bgr` (CV_8UC3)
   // with depth `depth_m` (CV_32FC1 metres, 0 = invalid, same size). Returns CV_8UC1 of the image
   // size, 255 inside. `image_name` identifies the image for the file backend.
+  // `depth_noise_at_1m_m`: a of the view's depth noise sigma(d) = a d^2 (metres at 1 m, measured
+  // by the pipeline: src/estimate/depth_noise.hpp), for the noise floor of the depth steps
+  // (SegmenterConfig::depth_noise_sigmas); 0 = unknown, no floor.
   // Throws InputError for images of the wrong type or size, and (file backend) for a missing,
   // unreadable or mismatched mask file.
   virtual cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection,
-                          int index, const std::string& image_name) = 0;
+                          int index, const std::string& image_name,
+                          double depth_noise_at_1m_m = 0.0) = 0;
   // The masks of all `detections` of one view (indices = positions in the vector). The default
   // calls Segment for each; SAM overrides it to run its image encoder once per view.
   virtual ViewMasks SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
                                 const std::vector<Detection>& detections,
-                                const std::string& image_name);
+                                const std::string& image_name, double depth_noise_at_1m_m = 0.0);
 };
 
 // Throws InputError naming the field for an unknown backend or an out-of-range parameter. "sam"
@@ -69,21 +73,25 @@ namespace detail {
 cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size);
 
 // CV_8UC1, 255 where a pixel has valid depth (> 0 and finite) and some pixel within `radius` px
-// (square window) is invalid or differs in depth by more than `relative` * its depth.
-cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative);
+// (square window) is invalid, or the window's readings spread over more than both `relative` *
+// the pixel's depth d and `noise_range_at_1m` * d^2 (the spread noise alone can make; 0 = none).
+cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
+                      double noise_range_at_1m = 0.0);
 
 // The depth steps every colour mask goes through (GrabCut's and SAM's): pixels of `candidates`
 // (box coordinates) whose depth lies in the band around the median valid depth of `reference`,
 // that are not on a depth edge (`edges`, box coordinates), then eroded (SegmenterConfig). Returns
 // an empty Mat when `reference` has no valid depth. `size_per_metre_depth` = box shorter side
-// (px) / focal length (px).
+// (px) / focal length (px). `depth_noise_at_1m_m` as in Segmenter::Segment (the band's floor).
 cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
                    const cv::Mat& reference, double size_per_metre_depth,
-                   const SegmenterConfig& config);
+                   const SegmenterConfig& config, double depth_noise_at_1m_m = 0.0);
 
-// Depth edges (DepthEdgeMask with the config's radius and threshold) inside `box`, computed on the
-// box padded by the radius so that the box border sees its neighbours. Box coordinates.
-cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config);
+// Depth edges (DepthEdgeMask with the config's radius and thresholds, the noise floor from
+// `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius so that the box
+// border sees its neighbours. Box coordinates.
+cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
+                      double depth_noise_at_1m_m = 0.0);
 
 // "<masks_dir>/<image stem>_<index>.png", the file backend's mask path.
 std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index);

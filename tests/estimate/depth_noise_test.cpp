@@ -4,36 +4,16 @@
 
 #include <gtest/gtest.h>
 
-#include <random>
-
 #include "estimate/icp.hpp"
 #include "estimate/lift.hpp"
+#include "noisy_wall.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/io.hpp"
 
 namespace zeroreg {
 namespace {
 
-// A 640x480 view (f = 585 px, Kinect v1) of a slanted wall, 1.5 m deep at the left edge and
-// 3 m at the right, with a box standing 0.5 m in front of it (two depth edges), and Gaussian
-// noise sigma(d) = noise_at_1m d^2 added to every reading.
-View NoisyWall(double noise_at_1m, unsigned seed) {
-  View v;
-  v.intrinsics = {585, 585, 319.5, 239.5, 640, 480};
-  v.color = cv::Mat(480, 640, CV_8UC3, cv::Scalar(0, 0, 0));
-  v.depth = cv::Mat(480, 640, CV_32FC1, cv::Scalar(0.0f));
-  std::mt19937 rng(seed);
-  std::normal_distribution<double> unit(0.0, 1.0);
-  for (int y = 0; y < 480; ++y) {
-    for (int x = 0; x < 640; ++x) {
-      // A plane: 1/d is affine in the pixel coordinates.
-      double d = 1.0 / (1.0 / 1.5 + (1.0 / 3.0 - 1.0 / 1.5) * x / 639.0);
-      if (x > 250 && x < 400 && y > 200) d -= 0.5;
-      v.depth.at<float>(y, x) = static_cast<float>(d + noise_at_1m * d * d * unit(rng));
-    }
-  }
-  return v;
-}
+using testing::NoisyWall;
 
 TEST(DepthNoise, MeasuresTheNoiseItWasGiven) {
   for (const double a : {0.0015, 0.005, 0.01}) {

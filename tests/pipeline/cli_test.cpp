@@ -40,6 +40,17 @@ TEST(Cli, VersionIsTheProjectVersion) {
   EXPECT_EQ(r.output, "zeroreg " ZEROREG_VERSION "\n");
 }
 
+// `info --scan` says how noisy each view's depth is (what the noise floors use): Kinect v1
+// measures ~1.7 mm at 1 m, below the "noisy" line.
+TEST(Cli, InfoPrintsTheDepthNoise) {
+  const auto r = RunCli("info --scan '" + RedkitchenDir() + "@0'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("depth noise 1."), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("depth noise of the scan (median of its views): 1."), std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("(noisy"), std::string::npos) << r.output;
+}
+
 TEST_F(CliBadInput, MissingFile) {
   fs::remove(Path("frame-000020.depth.png"));
   ExpectClearError(Run(), "frame-000020.depth.png", "not found");
