@@ -48,19 +48,22 @@ Runner AddInfoCommand(CLI::App& app) {
         std::printf("  view %s: %dx%d, fx %.1f fy %.1f cx %.1f cy %.1f, valid depth %.1f%%",
                     v.name.c_str(), v.color.cols, v.color.rows, v.intrinsics.fx, v.intrinsics.fy,
                     v.intrinsics.cx, v.intrinsics.cy, valid);
-        // What the noise floors of lifting, segmentation and ICP's grid will use
-        // (docs/CONFIG.md, "Depth noise").
+        // What the noise floors of lifting and segmentation will use (docs/CONFIG.md, "Depth
+        // noise").
         if (const std::optional<double> a = MeasureDepthNoiseAt1m(v)) {
-          std::printf(", depth noise %.2f mm at 1 m%s", *a * 1000.0,
-                      *a > kNoisyDepthAt1mM ? " (noisy: ICP samples the coarser grid)" : "");
+          std::printf(", depth noise %.2f mm at 1 m\n", *a * 1000.0);
         } else {
-          std::printf(", depth noise not measurable");
+          std::printf(", depth noise not measurable\n");
         }
-        std::printf("\n");
       }
+      // ICP's auto grid decides on the scan's median (RefineConfig::pixel_stride); a scan with a
+      // point cloud (a fragment) gives ICP that cloud instead of its depth pixels.
       if (const std::optional<double> a = MeasureDepthNoiseAt1m(scan)) {
-        std::printf("  depth noise of the scan (median of its views): %.2f mm at 1 m\n",
-                    *a * 1000.0);
+        const bool coarser =
+            config.refine.pixel_stride == 0 && scan.points.empty() && *a > kNoisyDepthAt1mM;
+        std::printf("  depth noise of the scan (median of its views): %.2f mm at 1 m%s\n",
+                    *a * 1000.0,
+                    coarser ? " (noisier than 3 mm: ICP samples the coarser grid)" : "");
       }
     }
     return kExitOk;

@@ -245,10 +245,11 @@ struct SegmenterConfig {
   // noise of the view (a measured from its depth, src/estimate/depth_noise.hpp), a window counts
   // as a depth edge only when its readings also spread over more than 2 * depth_noise_sigmas *
   // sigma(d) (each reading of one surface may lie that many sigmas off it, either way), and the
-  // depth band is at least depth_noise_sigmas * sigma(d) wide. For Kinect v1 depth (a = 1.7 mm)
-  // the edge floor passes depth_edge_relative only beyond 3.6 m and the band floor passes the
-  // relative term only beyond 4.4 m; a stereo camera with 10 mm at 1 m lost most of its masks
-  // beyond 1 m without it (docs/CONFIG.md, "Depth noise"). 0 = no floor (the steps as before).
+  // depth band's half-width is at least depth_noise_sigmas * sigma(d). For the Kinect v1 scenes
+  // (a = 1.65-1.76 mm) the edge floor passes depth_edge_relative only beyond 3.55-3.8 m and the
+  // band floor passes the band's relative term only beyond 4.3-4.5 m; on the copy of redkitchen
+  // with 10 mm at 1 m most masks were lost beyond 1 m without it (docs/CONFIG.md, "Depth noise").
+  // 0 = no floor (the steps as before).
   double depth_noise_sigmas = 4.0;
   // Final erosion of the mask (pixels, 3x3 cross steps): trims the colour boundary, which itself
   // is uncertain by about a pixel after upsampling from the working resolution.

@@ -24,10 +24,10 @@ class SamSegmenter : public Segmenter {
   std::string name() const override { return "sam"; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int index,
-                  const std::string& image_name, double depth_noise_at_1m_m = 0.0) override;
+                  const std::string& image_name, double depth_noise_at_1m_m) override;
   ViewMasks SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
                         const std::vector<Detection>& detections, const std::string& image_name,
-                        double depth_noise_at_1m_m = 0.0) override;
+                        double depth_noise_at_1m_m) override;
 
   // The encoder's output for `bgr` (CV_8UC3): 256 x 64 x 64, see ImageEmbedding.
   ImageEmbedding Encode(const cv::Mat& bgr) const;

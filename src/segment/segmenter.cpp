@@ -42,7 +42,7 @@ class BoxSegmenter : public Segmenter {
  public:
   std::string name() const override { return "box"; }
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
-                  const std::string& image_name, double = 0.0) override {
+                  const std::string& image_name, double) override {
     RequireInputs(bgr, depth_m, image_name);
     cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
     const cv::Rect r = detail::BoxPixelRect(detection.box, bgr.size());
@@ -62,7 +62,7 @@ class FileSegmenter : public Segmenter {
   explicit FileSegmenter(const SegmenterConfig& config) : masks_dir_(config.masks_dir) {}
   std::string name() const override { return "file"; }
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection&, int index,
-                  const std::string& image_name, double = 0.0) override {
+                  const std::string& image_name, double) override {
     RequireInputs(bgr, depth_m, image_name);
     const std::string path = detail::MaskFilePath(masks_dir_, image_name, index);
     const cv::Mat raw =
@@ -112,7 +112,7 @@ class DepthSegmenter : public Segmenter {
   std::string name() const override { return config_.backend; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
-                  const std::string& image_name, double depth_noise_at_1m_m = 0.0) override {
+                  const std::string& image_name, double depth_noise_at_1m_m) override {
     RequireInputs(bgr, depth_m, image_name);
     cv::Mat mask = cv::Mat::zeros(bgr.size(), CV_8UC1);
     const cv::Rect box = detail::BoxPixelRect(detection.box, bgr.size());

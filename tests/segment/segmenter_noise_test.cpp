@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/imgproc.hpp>
+#include <random>
 #include <string>
 
 #include "detect/perception_test_util.hpp"
@@ -38,7 +39,7 @@ double ObjectCovered(const cv::Mat& mask) {
   return static_cast<double>(cv::countNonZero(mask(kObject))) / kObject.area();
 }
 
-// A stereo-class sensor (10 mm at 1 m: sigma 2.3 cm on the object at 1.5 m): without the floor
+// Depth with 10 mm at 1 m (sigma 2.3 cm on the object at 1.5 m): without the floor
 // the 7x7 depth-edge windows see noise spreads of ~10 cm, over 5 % of the depth, and the mask
 // loses the object; with the view's measured noise it is the mask of the same scene without
 // noise (IoU > 0.9), so the object's real edges (0.5 m in front of the wall) still bound it.
@@ -52,8 +53,10 @@ TEST(SegmenterDepthNoise, NoisyDepthGivesTheQuietMask) {
     config.backend = backend;
     auto segmenter = MakeSegmenter(config);
     const Detection box = BoxAroundObject();
-    const cv::Mat reference = segmenter->Segment(quiet.color, quiet.depth, box, 0, "wall");
-    const cv::Mat without = segmenter->Segment(noisy.color, noisy.depth, box, 0, "wall");
+    const cv::Mat reference =
+        segmenter->Segment(quiet.color, quiet.depth, box, 0, "wall", kUnknownDepthNoise);
+    const cv::Mat without =
+        segmenter->Segment(noisy.color, noisy.depth, box, 0, "wall", kUnknownDepthNoise);
     const cv::Mat with = segmenter->Segment(noisy.color, noisy.depth, box, 0, "wall", a);
     EXPECT_GT(ObjectCovered(reference), 0.9);
     EXPECT_LT(ObjectCovered(without), 0.1);
@@ -68,13 +71,16 @@ TEST(SegmenterDepthNoise, NoisyDepthGivesTheQuietMask) {
   EXPECT_LT(ObjectCovered(mask), 0.1);
 }
 
-// Noise-free depth: the floor is zero and the mask is exactly the one without it.
+// Noise-free depth measures a ~ 0; even with a = 1.5 mm (Kinect-like) the floors stay below the
+// relative thresholds at these depths (1.35-2.2 m), so the mask is bit-identical to the one
+// without a noise floor.
 TEST(SegmenterDepthNoise, QuietDepthGivesTheSameMask) {
   const View view = NoisyWall(0.0, 21);
   SegmenterConfig config;
   config.backend = "depth";
   auto segmenter = MakeSegmenter(config);
-  const cv::Mat without = segmenter->Segment(view.color, view.depth, BoxAroundObject(), 0, "wall");
+  const cv::Mat without =
+      segmenter->Segment(view.color, view.depth, BoxAroundObject(), 0, "wall", kUnknownDepthNoise);
   const cv::Mat with =
       segmenter->Segment(view.color, view.depth, BoxAroundObject(), 0, "wall", 0.0015);
   EXPECT_EQ(cv::countNonZero(without != with), 0);
@@ -98,7 +104,29 @@ TEST(SegmenterDepthNoise, EdgeMaskFloor) {
   }
 }
 
-// Kinect v1 frames (a ~1.7 mm): the floor passes the relative edge threshold only beyond 3.6 m,
+// The band's floor alone: a flat patch 3 m away with 10 mm at 1 m (sigma 9 cm) and no size term.
+// The band max(5 cm, 3 % of 3 m) = 9 cm keeps one sigma, about two thirds of the readings; with
+// the floor (4 sigma = 36 cm) all but a few in ten thousand.
+TEST(SegmenterDepthNoise, DepthBandFloor) {
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.09f);
+  cv::Mat depth(100, 100, CV_32FC1);
+  for (int y = 0; y < depth.rows; ++y) {
+    for (int x = 0; x < depth.cols; ++x) depth.at<float>(y, x) = 3.0f + noise(rng);
+  }
+  const cv::Mat none = cv::Mat::zeros(depth.size(), CV_8UC1);
+  const cv::Mat all(depth.size(), CV_8UC1, cv::Scalar(255));
+  SegmenterConfig config;
+  config.erosion_px = 0;  // the band alone
+  const auto kept = [&](double a) {
+    const cv::Mat layer = detail::DepthLayer(depth, none, all, all, 0.0, config, a);
+    return static_cast<double>(cv::countNonZero(layer)) / depth.total();
+  };
+  EXPECT_LT(kept(kUnknownDepthNoise), 0.75);
+  EXPECT_GT(kept(0.01), 0.999);
+}
+
+// Kinect v1 frames (a ~1.7 mm): the edge floor passes the relative threshold only beyond ~3.6 m,
 // so the masks of the frames' YOLOX boxes are the same with the measured noise as without it.
 TEST(SegmenterDepthNoise, KinectMasksAsBefore) {
   auto detector = MakeDetector(DetectorConfig{}, perception_test::ModelPaths());
@@ -113,7 +141,8 @@ TEST(SegmenterDepthNoise, KinectMasksAsBefore) {
     const double a = *MeasureDepthNoiseAt1m(view);
     ASSERT_GT(a, 0.001);
     const std::vector<Detection> detections = detector->Detect(bgr, name);
-    const ViewMasks without = segmenter->SegmentView(bgr, depth, detections, name);
+    const ViewMasks without =
+        segmenter->SegmentView(bgr, depth, detections, name, kUnknownDepthNoise);
     const ViewMasks with = segmenter->SegmentView(bgr, depth, detections, name, a);
     ASSERT_EQ(without.masks.size(), with.masks.size());
     for (size_t i = 0; i < with.masks.size(); ++i) {

@@ -130,7 +130,8 @@ TEST(SegmenterGrabCutDepth, SyntheticDiskRecovered) {
   const cv::Mat truth = SyntheticDisk(cv::Scalar(200, 40, 180), 0, &bgr, &depth);
   auto seg = GrabCutSegmenter();
   EXPECT_EQ(seg->name(), "grabcut-depth");
-  const cv::Mat mask = seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  const cv::Mat mask =
+      seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png", kUnknownDepthNoise);
   ExpectBinaryMask(mask, bgr.size());
   // The mask is the disk minus a thin rim (erosion + depth-edge band): inside the disk, most of it.
   EXPECT_EQ(cv::countNonZero(mask & ~truth), 0);
@@ -143,8 +144,8 @@ TEST(SegmenterGrabCutDepth, MisalignedDepthDoesNotBleed) {
   // rim of the disk on the wall behind it. Every mask pixel must lie on the disk in BOTH images.
   cv::Mat bgr, depth;
   const cv::Mat truth = SyntheticDisk(cv::Scalar(200, 40, 180), 5, &bgr, &depth);
-  const cv::Mat mask =
-      GrabCutSegmenter()->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  const cv::Mat mask = GrabCutSegmenter()->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0,
+                                                   "disk.png", kUnknownDepthNoise);
   ASSERT_GT(cv::countNonZero(mask), 0.6 * cv::countNonZero(truth));
   for (int v = 0; v < mask.rows; ++v) {
     for (int u = 0; u < mask.cols; ++u) {
@@ -166,8 +167,8 @@ TEST(SegmenterGrabCutDepth, SameColourFallsBackToDepthLayer) {
   cv::Mat textured(bgr.size(), CV_8UC3);
   cv::RNG rng(7);
   rng.fill(textured, cv::RNG::UNIFORM, cv::Scalar(20, 120, 20), cv::Scalar(70, 200, 90));
-  const cv::Mat mask =
-      GrabCutSegmenter()->Segment(textured, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  const cv::Mat mask = GrabCutSegmenter()->Segment(
+      textured, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png", kUnknownDepthNoise);
   EXPECT_EQ(cv::countNonZero(mask & ~truth), 0);
   EXPECT_GT(Iou(mask, truth), 0.7);
 }
@@ -177,15 +178,17 @@ TEST(SegmenterGrabCutDepth, BoxAtImageBorderAndTinyBox) {
   SyntheticDisk(cv::Scalar(200, 40, 180), 0, &bgr, &depth);
   auto seg = GrabCutSegmenter();
   // Whole-image box: GrabCut has no outside ring; must still return a valid mask.
-  const cv::Mat whole = seg->Segment(bgr, depth, MakeDetection(0, 0, 320, 240), 0, "disk.png");
+  const cv::Mat whole =
+      seg->Segment(bgr, depth, MakeDetection(0, 0, 320, 240), 0, "disk.png", kUnknownDepthNoise);
   ExpectBinaryMask(whole, bgr.size());
   EXPECT_GT(cv::countNonZero(whole), 0);
   // A 3x3 box and a box outside the image.
-  const cv::Mat tiny = seg->Segment(bgr, depth, MakeDetection(159, 119, 162, 122), 0, "disk.png");
+  const cv::Mat tiny = seg->Segment(bgr, depth, MakeDetection(159, 119, 162, 122), 0, "disk.png",
+                                    kUnknownDepthNoise);
   ExpectBinaryMask(tiny, bgr.size());
   EXPECT_EQ(cv::countNonZero(tiny & ~BoxMask(cv::Rect2f(159, 119, 3, 3), bgr.size())), 0);
-  const cv::Mat outside =
-      seg->Segment(bgr, depth, MakeDetection(400, 300, 450, 350), 0, "disk.png");
+  const cv::Mat outside = seg->Segment(bgr, depth, MakeDetection(400, 300, 450, 350), 0, "disk.png",
+                                       kUnknownDepthNoise);
   ExpectBinaryMask(outside, bgr.size());
   EXPECT_EQ(cv::countNonZero(outside), 0);
 }
@@ -204,7 +207,8 @@ void CheckRealMasks(int frame_id, const std::string& backend = "grabcut-depth") 
     SCOPED_TRACE("frame " + std::to_string(frame_id) + " detection " + std::to_string(i) + " " +
                  d.label);
     const auto t0 = std::chrono::steady_clock::now();
-    const cv::Mat mask = seg->Segment(f.bgr, f.depth, d, static_cast<int>(i), f.name);
+    const cv::Mat mask =
+        seg->Segment(f.bgr, f.depth, d, static_cast<int>(i), f.name, kUnknownDepthNoise);
     ms.push_back(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
     ExpectBinaryMask(mask, f.bgr.size());
@@ -252,9 +256,9 @@ TEST(SegmenterDepthGrabCut, ColourOnlyWhereDepthFindsNoOutline) {
       SCOPED_TRACE("frame " + std::to_string(id) + " detection " + std::to_string(i) + " " +
                    d.label);
       const int index = static_cast<int>(i);
-      const cv::Mat a = depth_only->Segment(f.bgr, f.depth, d, index, f.name);
-      const cv::Mat b = grabcut->Segment(f.bgr, f.depth, d, index, f.name);
-      const cv::Mat c = both->Segment(f.bgr, f.depth, d, index, f.name);
+      const cv::Mat a = depth_only->Segment(f.bgr, f.depth, d, index, f.name, kUnknownDepthNoise);
+      const cv::Mat b = grabcut->Segment(f.bgr, f.depth, d, index, f.name, kUnknownDepthNoise);
+      const cv::Mat c = both->Segment(f.bgr, f.depth, d, index, f.name, kUnknownDepthNoise);
       const cv::Mat valid = BoxMask(d.box, f.bgr.size()) & (f.depth > 0.0f);
       const bool outline = cv::countNonZero(a) < 0.9 * cv::countNonZero(valid);
       EXPECT_EQ(cv::countNonZero(c != (outline ? a : b)), 0);
@@ -284,8 +288,8 @@ TEST(SegmenterGrabCutDepth, TimingPerBoxPrinted) {
         for (size_t i = 0; i < f.detections.size(); ++i) {
           const double c0 = perception_test::ThreadCpuMs();
           const auto t0 = std::chrono::steady_clock::now();
-          const cv::Mat mask =
-              seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i), f.name);
+          const cv::Mat mask = seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i),
+                                            f.name, kUnknownDepthNoise);
           wall.push_back(
               std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
                   .count());
@@ -307,18 +311,20 @@ TEST(SegmenterGrabCutDepth, DeterministicAcrossCallsAndInstances) {
   const Frame& f = RedkitchenFrame(0);
   ASSERT_GE(f.detections.size(), 3u);
   auto seg = GrabCutSegmenter();
-  const cv::Mat first = seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
+  const cv::Mat first =
+      seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name, kUnknownDepthNoise);
   // Other boxes in between, the caller's RNG moved on: same mask, caller's RNG untouched.
   for (size_t i = 0; i < f.detections.size(); ++i) {
-    seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i), f.name);
+    seg->Segment(f.bgr, f.depth, f.detections[i], static_cast<int>(i), f.name, kUnknownDepthNoise);
   }
   cv::theRNG() = cv::RNG(12345);
   cv::theRNG().next();
   const uint64_t state = cv::theRNG().state;
-  const cv::Mat again = seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
+  const cv::Mat again =
+      seg->Segment(f.bgr, f.depth, f.detections[2], 2, f.name, kUnknownDepthNoise);
   EXPECT_EQ(cv::theRNG().state, state);
   const cv::Mat other_instance =
-      GrabCutSegmenter()->Segment(f.bgr, f.depth, f.detections[2], 2, f.name);
+      GrabCutSegmenter()->Segment(f.bgr, f.depth, f.detections[2], 2, f.name, kUnknownDepthNoise);
   EXPECT_EQ(cv::countNonZero(first != again), 0);
   EXPECT_EQ(cv::countNonZero(first != other_instance), 0);
 }
@@ -335,7 +341,8 @@ TEST(SegmenterBox, EqualsBoxAndValidDepth) {
   boxes.push_back(MakeDetection(10.4f, 20.6f, 100.5f, 90.49f));    // fractional corners
   boxes.push_back(MakeDetection(600.2f, 400.7f, 640.0f, 480.0f));  // touching the border
   for (size_t i = 0; i < boxes.size(); ++i) {
-    const cv::Mat mask = seg->Segment(f.bgr, f.depth, boxes[i], static_cast<int>(i), f.name);
+    const cv::Mat mask =
+        seg->Segment(f.bgr, f.depth, boxes[i], static_cast<int>(i), f.name, kUnknownDepthNoise);
     ExpectBinaryMask(mask, f.bgr.size());
     int differ = 0, inside = 0;
     for (int v = 0; v < mask.rows; ++v) {
@@ -363,7 +370,7 @@ class SegmenterFile : public ::testing::Test {
   }
   cv::Mat Run(int index) {
     return MakeSegmenter(config_)->Segment(bgr_, depth_, MakeDetection(1, 1, 10, 10), index,
-                                           "some/dir/frame-000003.color.jpg");
+                                           "some/dir/frame-000003.color.jpg", kUnknownDepthNoise);
   }
   std::string PathOf(int index) const {
     return dir_.File("frame-000003.color_" + std::to_string(index) + ".png");
@@ -418,7 +425,8 @@ TEST(SegmenterDepthOnly, SyntheticDiskRecoveredFromDepthAlone) {
   config.backend = "depth";
   auto seg = MakeSegmenter(config);
   EXPECT_EQ(seg->name(), "depth");
-  const cv::Mat mask = seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png");
+  const cv::Mat mask =
+      seg->Segment(bgr, depth, MakeDetection(100, 60, 220, 180), 0, "disk.png", kUnknownDepthNoise);
   ExpectBinaryMask(mask, bgr.size());
   EXPECT_EQ(cv::countNonZero(mask & ~truth), 0);
   EXPECT_GT(Iou(mask, truth), 0.75);
@@ -434,12 +442,15 @@ TEST(SegmenterInputs, BadImagesNamed) {
     config.backend = backend;
     auto seg = MakeSegmenter(config);
     const Detection d = MakeDetection(5, 5, 30, 30);
-    ExpectInputError([&] { seg->Segment(bgr, cv::Mat(40, 64, CV_32FC1), d, 0, "a.jpg"); },
-                     {"a.jpg", "64x40", "64x48"});
-    ExpectInputError([&] { seg->Segment(bgr, cv::Mat(48, 64, CV_16UC1), d, 0, "a.jpg"); },
-                     {"a.jpg", "CV_32FC1"});
-    ExpectInputError([&] { seg->Segment(cv::Mat(48, 64, CV_8UC1), depth, d, 0, "b.jpg"); },
-                     {"b.jpg", "3-channel"});
+    ExpectInputError(
+        [&] { seg->Segment(bgr, cv::Mat(40, 64, CV_32FC1), d, 0, "a.jpg", kUnknownDepthNoise); },
+        {"a.jpg", "64x40", "64x48"});
+    ExpectInputError(
+        [&] { seg->Segment(bgr, cv::Mat(48, 64, CV_16UC1), d, 0, "a.jpg", kUnknownDepthNoise); },
+        {"a.jpg", "CV_32FC1"});
+    ExpectInputError(
+        [&] { seg->Segment(cv::Mat(48, 64, CV_8UC1), depth, d, 0, "b.jpg", kUnknownDepthNoise); },
+        {"b.jpg", "3-channel"});
   }
 }
 
@@ -462,6 +473,9 @@ TEST(SegmenterInputs, ConfigChecked) {
   config = SegmenterConfig{};
   config.min_box_fraction = 1.5;
   ExpectInputError([&] { MakeSegmenter(config); }, {"segmenter.min_box_fraction"});
+  config = SegmenterConfig{};
+  config.depth_noise_sigmas = -1.0;
+  ExpectInputError([&] { MakeSegmenter(config); }, {"segmenter.depth_noise_sigmas", ">= 0"});
 }
 
 }  // namespace
