@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Issue 11 item 5: the object level on every pair list of ../shared/lists for
-# {yolox, ensemble} x {appearance off, on}, then the table of scripts/object-table.py.
+# Issue 11 item 5: the object level on every pair list of ../shared/lists for the detector
+# setups (YOLOX-Nano alone, the default's PicoDet top-up below 3 YOLOX objects, both detectors on
+# every view), then the table of scripts/object-table.py.
 #
 #   bash scripts/bench-objects.sh [RESULTS=results/objects]
 #
@@ -10,7 +11,7 @@
 #            its first pairs as --limit would be)
 #   JOBS     --jobs of every run (default 2)
 #   SETUPS   space-separated NAME:OPTIONS entries, OPTIONS comma-separated --set values (default:
-#            the four setups below)
+#            the three setups below; appearance: add object_match.appearance_weight=0)
 #   LISTS    default ../shared/lists; DATA default ../shared/data; ZEROREG_BIN default build/zeroreg
 # Every run resumes (finished pairs are kept).
 set -uo pipefail
@@ -22,7 +23,7 @@ jobs="${JOBS:-2}"
 lists="${LISTS:-../shared/lists}"
 data="${DATA:-../shared/data}"
 bin="${ZEROREG_BIN:-build/zeroreg}"
-setups="${SETUPS:-yolox: yolox-app1:object_match.appearance_weight=1 ensemble:detector.backend=ensemble ensemble-app1:detector.backend=ensemble,object_match.appearance_weight=1}"
+setups="${SETUPS:-yolox:detector.backend=yolox ensemble-below3: ensemble:detector.ensemble_below=0}"
 
 scene_of() {  # list name -> data folder
   case "$1" in

@@ -2,6 +2,7 @@
 // by the pipeline) and throws InputError naming the file when it cannot be loaded.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <opencv2/dnn.hpp>
@@ -57,14 +58,25 @@ class PicodetDetector : public Detector {
 // Several detectors on the same image (backend "ensemble": YOLOX-Nano, then PicoDet): their
 // detections are pooled and per-class NMS (config.nms_iou) keeps the best box of each object, so
 // an object both find is reported once. The members' labels must share one spelling (COCO-2017).
+// With config.ensemble_below > 0 the later members run only on images where the first member
+// found fewer than that many objects, and each is built (its model loaded) on the first image
+// that needs it, so a run whose images never need it never loads it.
 class EnsembleDetector : public Detector {
  public:
-  EnsembleDetector(std::vector<std::unique_ptr<Detector>> members, const DetectorConfig& config);
+  using Factory = std::function<std::unique_ptr<Detector>()>;
+  // `first` runs on every image; `later` are built at once (ensemble_below = 0) or on first use.
+  EnsembleDetector(std::unique_ptr<Detector> first, std::vector<Factory> later,
+                   const DetectorConfig& config);
   std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
   std::string name() const override;
 
  private:
-  std::vector<std::unique_ptr<Detector>> members_;  // each thread-safe on its own
+  Detector& Later(size_t k);
+
+  std::unique_ptr<Detector> first_;  // thread-safe on its own, as each later member
+  std::vector<Factory> factories_;
+  std::vector<std::unique_ptr<Detector>> later_;
+  std::unique_ptr<std::once_flag[]> built_;  // one per later member
   DetectorConfig config_;
 };
 

@@ -21,6 +21,11 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
     throw MakeInputError("detector.nms_iou",
                          "is " + std::to_string(config.nms_iou) + ", expected a value in (0, 1]");
   }
+  if (config.ensemble_below < 0) {
+    throw MakeInputError("detector.ensemble_below",
+                         "is " + std::to_string(config.ensemble_below) +
+                             ", expected 0 (both detectors on every view) or a count >= 1");
+  }
   if (config.backend == "yolox") {
     return std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config,
                                            inference);
@@ -34,12 +39,14 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
                                              paths.picodet_classes, config, inference);
   }
   if (config.backend == "ensemble") {
-    std::vector<std::unique_ptr<Detector>> members;
-    members.push_back(
-        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config, inference));
-    members.push_back(std::make_unique<PicodetDetector>(
-        paths.picodet_onnx, paths.picodet_opencv_onnx, paths.picodet_classes, config, inference));
-    return std::make_unique<EnsembleDetector>(std::move(members), config);
+    std::vector<EnsembleDetector::Factory> later;
+    later.push_back([paths, config, inference]() -> std::unique_ptr<Detector> {
+      return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_opencv_onnx,
+                                               paths.picodet_classes, config, inference);
+    });
+    return std::make_unique<EnsembleDetector>(
+        std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config, inference),
+        std::move(later), config);
   }
   if (config.backend == "file") return std::make_unique<FileDetector>(config);
   throw MakeInputError("detector.backend",

@@ -145,6 +145,7 @@ void Visit(V& v, DetectorConfig& c) {
   v("backend", c.backend);
   v("score_threshold", c.score_threshold, Fraction());
   v("nms_iou", c.nms_iou, Between(0, 1, /*min_open=*/true));
+  v("ensemble_below", c.ensemble_below, AtLeast(0));
   v("detections_dir", c.detections_dir);
   v("max_detections", c.max_detections, AtLeast(0));
 }

@@ -64,7 +64,9 @@ TEST(DetectHelpers, ImageStem) {
 // Reference boxes were checked by drawing them on the frame (table, the chair behind the table, the
 // white mug on the table, the chair on the left).
 TEST(DetectYolox, RedkitchenFrame0MatchesManifest) {
-  auto det = MakeDetector(DetectorConfig{}, ModelPaths());
+  DetectorConfig yolox;
+  yolox.backend = "yolox";
+  auto det = MakeDetector(yolox, ModelPaths());
   EXPECT_EQ(det->name(), "yolox");
   const auto dets = det->Detect(ReadFrame(0), "frame-000000.color.jpg");
   struct Expected {

@@ -34,9 +34,12 @@ float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
   return inter / (a.area() + b.area() - inter);
 }
 
+// "ensemble" here is both detectors on every view (ensemble_below = 0, configs/paper.json's);
+// the default's top-up (ensemble_below = 3) has its own test below.
 DetectorConfig Backend(const std::string& name) {
   DetectorConfig c;
   c.backend = name;
+  c.ensemble_below = 0;
   return c;
 }
 
@@ -260,6 +263,56 @@ TEST(DetectEnsemble, UnionOfBothDetectorsWithoutDuplicates) {
       EXPECT_EQ(r[i].score, dets[i].score);
     }
   }
+}
+
+// detector.ensemble_below: PicoDet runs only on views where YOLOX finds fewer than N objects,
+// and its model is loaded on the first such view (a corrupt PicoDet file is harmless until then).
+TEST(DetectEnsemble, SecondDetectorOnlyWhereTheFirstFindsTooFew) {
+  const cv::Mat frame = ReadFrame(0);
+  const auto yolox = MakeDetector(Backend("yolox"), ModelPaths())->Detect(frame, "f");
+  const auto both = MakeDetector(Backend("ensemble"), ModelPaths())->Detect(frame, "f");
+  ASSERT_GE(yolox.size(), 2u);
+  ASSERT_GT(both.size(), yolox.size());
+  auto same = [](const std::vector<Detection>& a, const std::vector<Detection>& b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+      if (a[i].label != b[i].label || a[i].box != b[i].box || a[i].score != b[i].score) {
+        return false;
+      }
+    }
+    return true;
+  };
+  DetectorConfig config = Backend("ensemble");
+  config.ensemble_below = static_cast<int>(yolox.size());  // YOLOX found enough: alone
+  auto enough = MakeDetector(config, ModelPaths());
+  EXPECT_EQ(enough->name(), "ensemble(yolox+picodet below " + std::to_string(yolox.size()) + ")");
+  EXPECT_TRUE(same(enough->Detect(frame, "f"), yolox));
+  config.ensemble_below = static_cast<int>(yolox.size()) + 1;  // too few: both, as the ensemble
+  EXPECT_TRUE(same(MakeDetector(config, ModelPaths())->Detect(frame, "f"), both));
+
+  // Lazy loading: a corrupt PicoDet model is not read while YOLOX finds enough, and is named
+  // by the first view that needs it (a grey image: no YOLOX detection).
+  TempDir dir("ensemble-below");
+  WriteText(dir.File("bad.onnx"), "not a protobuf");
+  auto paths = ModelPaths();
+  paths.picodet_onnx = paths.picodet_opencv_onnx = dir.File("bad.onnx");
+  config.ensemble_below = static_cast<int>(yolox.size());
+  auto lazy = MakeDetector(config, paths);
+  EXPECT_TRUE(same(lazy->Detect(frame, "f"), yolox));
+  const cv::Mat grey(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+  ExpectInputError([&] { lazy->Detect(grey, "grey.png"); }, {dir.File("bad.onnx")});
+
+  // Concurrent first uses build the second detector once and agree.
+  config.ensemble_below = static_cast<int>(yolox.size()) + 1;
+  auto shared = MakeDetector(config, ModelPaths());
+  std::vector<std::vector<Detection>> results(4);
+  std::vector<std::thread> threads;
+  for (auto& r : results) threads.emplace_back([&] { r = shared->Detect(frame, "f"); });
+  for (auto& t : threads) t.join();
+  for (const auto& r : results) EXPECT_TRUE(same(r, both));
+
+  config.ensemble_below = -1;
+  ExpectInputError([&] { MakeDetector(config, ModelPaths()); }, {"detector.ensemble_below"});
 }
 
 }  // namespace
