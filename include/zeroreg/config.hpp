@@ -574,6 +574,16 @@ struct HypothesesConfig {
   // Off with hypotheses.enabled = false. Costs one whole-image matching, estimate and ICP per
   // rescued object-path pair.
   bool image_rival_rescued = true;
+  // true: a valid object-path estimate that rests on one matched object pair is also checked
+  // against the whole-image one, under image_rival_rescued's rule (valid, not degenerate, more
+  // than refine.max_distance_final_m apart over the source surface, scoring higher: it replaces
+  // it). One pair is the least the object level offers: the scene graph has no edge to confirm
+  // it and the rigidity of the matches cannot be checked, so a wrong match of two look-alike
+  // objects can give a wrong estimate the check cannot refuse (hololens-gap5 87 -> 92: one wrong
+  // match, 21.6 deg / 30 cm off, free-space violations 9.5 % against the 10 % limit, whenever the
+  // objects around it are fewer; BENCHMARKS.md "One object match"). Off with hypotheses.enabled =
+  // false. Costs one whole-image matching, estimate and ICP per such pair.
+  bool image_rival_single = true;
 };
 
 struct PipelineConfig {

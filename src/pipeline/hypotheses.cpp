@@ -78,8 +78,10 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                           result->verification.degenerate;
   const bool rescued = config.hypotheses.enabled && config.hypotheses.image_rival_rescued &&
                        inputs.object_rescued_by_icp;
-  if (!(config.hypotheses.image_rival || degenerate || rescued) || !config.verify.enabled ||
-      !result->valid || result->path != "object" || !inputs.whole_image) {
+  const bool single = config.hypotheses.enabled && config.hypotheses.image_rival_single &&
+                      result->object_matches.size() == 1;
+  if (!(config.hypotheses.image_rival || degenerate || rescued || single) ||
+      !config.verify.enabled || !result->valid || result->path != "object" || !inputs.whole_image) {
     return false;
   }
   timer.Restart();
@@ -110,8 +112,10 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   // the check speaks for the estimate, and the check picks between the two where they differ.
   // In degenerate geometry the score cannot tell the two apart: that case is the degenerate
   // rule's (by inliers), or, with that rule off, the object path keeps it.
-  const bool better_scored = rescued && !result->verification.degenerate && rival.valid &&
-                             apart_surface_m > config.refine.max_distance_final_m &&
+  // One object match: nothing but that match and the check speak for the estimate (the same
+  // rule as a rescued one).
+  const bool better_scored = (rescued || single) && !result->verification.degenerate &&
+                             rival.valid && apart_surface_m > config.refine.max_distance_final_m &&
                              rival.verification.score > result->verification.score;
   char support[200];
   std::snprintf(support, sizeof(support),
@@ -120,7 +124,7 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                 result->num_inliers, result->path.c_str(), rival.num_inliers, apart_surface_m);
   // Which rule, if any, lets the rival win, and what the reason says of it (the surface support
   // figures only where the degenerate or rescued rule was asked).
-  std::string asked_support = degenerate || rescued ? support : "";
+  std::string asked_support = degenerate || rescued || single ? support : "";
   const char* why = nullptr;
   if (config.hypotheses.image_rival && rival.valid && disagree &&
       rival.verification.score > result->verification.score) {
@@ -129,9 +133,10 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   } else if (better_supported) {
     why = "degenerate geometry: the whole-image estimate is supported by more correspondences";
   } else if (better_scored) {
-    why =
-        "the object path's estimate passed the check only after ICP, and the whole-image "
-        "estimate scores higher";
+    why = rescued ? "the object path's estimate passed the check only after ICP, and the "
+                    "whole-image estimate scores higher"
+                  : "the object path's estimate rests on one object match, and the whole-image "
+                    "estimate scores higher";
   }
   if (why != nullptr) {
     Adopt(std::move(rival), result);

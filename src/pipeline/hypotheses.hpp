@@ -68,7 +68,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
 // same check for an object-path estimate only ICP made valid (inputs.object_rescued_by_icp), where
 // the rival replaces it when valid, scoring higher and more than refine.max_distance_final_m apart
 // over inputs.source_surface, unless the check found the geometry degenerate (then only the
-// degenerate rule can replace it). Returns whether it ran (the
+// degenerate rule can replace it). hypotheses.image_rival_single: the rescued rule for an
+// object-path estimate that rests on one matched object pair. Returns whether it ran (the
 // whole-image correspondences were then estimated with the method's estimator). Time: "hypothesis
 // image-rival".
 bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effective,

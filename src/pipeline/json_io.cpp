@@ -237,6 +237,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("image_rival", c.image_rival);
   v("image_rival_degenerate", c.image_rival_degenerate);
   v("image_rival_rescued", c.image_rival_rescued);
+  v("image_rival_single", c.image_rival_single);
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {

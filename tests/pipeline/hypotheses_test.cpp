@@ -407,6 +407,51 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
   EXPECT_FALSE(RunImageRival(no_hypotheses, object, rival(true, 3 * gate, 0.484), true).ran);
 }
 
+// hypotheses.image_rival_single (on by default): an object estimate that rests on one matched
+// object pair gives way, under the rescued rule, to a valid whole-image estimate that scores
+// higher and lies more than ICP's final gate away; with two matched pairs the rule does not run.
+TEST(ImageRival, SingleObjectMatchGivesWayToTheBetterScoredOne) {
+  const PipelineConfig config;  // the defaults
+  ASSERT_TRUE(config.hypotheses.image_rival_single);
+  const double gate = config.refine.max_distance_final_m;
+  RegistrationResult object;
+  object.valid = true;
+  object.path = "object";
+  object.num_inliers = 22;
+  object.verification.score = 0.351;
+  object.object_matches = {{0, 0, 1.8, 22}};
+  ImageRivalRun out = RunImageRival(config, object, {true, 3 * gate, 0.472, 60});
+  EXPECT_TRUE(out.ran);
+  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_NE(out.result.reason.find("rests on one object match"), std::string::npos)
+      << out.result.reason;
+  // The same answer, a lower score, not valid, or degenerate geometry (the score cannot decide;
+  // the degenerate rule is off here): the object path stays.
+  for (const StandInRival& r :
+       {StandInRival{true, 0.5 * gate, 0.472, 60}, StandInRival{true, 3 * gate, 0.30, 60},
+        StandInRival{false, 3 * gate, 0.472, 60}}) {
+    out = RunImageRival(config, object, r);
+    EXPECT_TRUE(out.ran);
+    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.score;
+  }
+  PipelineConfig no_degenerate_rule = config;
+  no_degenerate_rule.hypotheses.image_rival_degenerate = false;
+  RegistrationResult degenerate = object;
+  degenerate.verification.degenerate = true;
+  out = RunImageRival(no_degenerate_rule, degenerate, {true, 3 * gate, 0.472, 60});
+  EXPECT_EQ(out.result.path, "object") << out.result.reason;
+  // Two matched pairs, the switch off, or no extra sources: not run.
+  RegistrationResult two = object;
+  two.object_matches.push_back({1, 1, 1.7, 10});
+  EXPECT_FALSE(RunImageRival(config, two, {true, 3 * gate, 0.472, 60}).ran);
+  PipelineConfig off = config;
+  off.hypotheses.image_rival_single = false;
+  EXPECT_FALSE(RunImageRival(off, object, {true, 3 * gate, 0.472, 60}).ran);
+  PipelineConfig no_hypotheses = config;
+  no_hypotheses.hypotheses.enabled = false;
+  EXPECT_FALSE(RunImageRival(no_hypotheses, object, {true, 3 * gate, 0.472, 60}).ran);
+}
+
 // hololens-cross 31 -> 194: ICP rescued a 32-correspondence object estimate to 2.2 deg / 5.1 cm
 // (score 0.316); the whole image's estimate is 0.6 deg / 2.5 cm and scores 0.484.
 TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
@@ -421,6 +466,7 @@ TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.04) << r.reason;
   PipelineConfig off;
   off.hypotheses.image_rival_rescued = false;
+  off.hypotheses.image_rival_single = false;  // the pair's object path rests on one match too
   const RegistrationResult object = Register(source, target, off);
   EXPECT_EQ(object.path, "object") << object.reason;
   EXPECT_NE(object.reason.find("refined by ICP"), std::string::npos) << object.reason;
