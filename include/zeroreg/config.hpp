@@ -153,7 +153,8 @@ struct DetectorConfig {
   // "ensemble" (default: YOLOX-Nano, plus PP-PicoDet-S 416 where ensemble_below says; pooled,
   // per-class NMS with nms_iou across both), "yolox", "picodet", "darknet" or "file". The default
   // since the eighteenth session: with ensemble_below = 3 the object path carries 82.5 / 50.9 %
-  // of cabinet-gap1 / gap3 (17.5 / 12.7 % with YOLOX alone) and more on every other list, with
+  // of cabinet-gap1 / gap3 (17.5 / 12.7 % with YOLOX alone; 80.7 % on cabinet-gap1 since
+  // hypotheses.image_rival_single) and more on every other list but one (equal), with
   // the same accuracy and verdicts on every list (BENCHMARKS.md, "A second detector where the
   // first sees too few objects").
   std::string backend = "ensemble";

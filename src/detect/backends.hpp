@@ -58,25 +58,27 @@ class PicodetDetector : public Detector {
 // Several detectors on the same image (backend "ensemble": YOLOX-Nano, then PicoDet): their
 // detections are pooled and per-class NMS (config.nms_iou) keeps the best box of each object, so
 // an object both find is reported once. The members' labels must share one spelling (COCO-2017).
-// With config.ensemble_below > 0 the later members run only on images where the first member
-// found fewer than that many objects, and each is built (its model loaded) on the first image
-// that needs it, so a run whose images never need it never loads it.
+// With config.ensemble_below > 0 the second detector runs only on images where the first found
+// fewer than that many objects, and is built (its model loaded) on the first image that needs it,
+// so a run whose images never need it never loads it.
 class EnsembleDetector : public Detector {
  public:
   using Factory = std::function<std::unique_ptr<Detector>()>;
-  // `first` runs on every image; `later` are built at once (ensemble_below = 0) or on first use.
-  EnsembleDetector(std::unique_ptr<Detector> first, std::vector<Factory> later,
+  // `first` runs on every image; `make_second` builds the second detector, named `second_name`,
+  // at once (ensemble_below = 0) or on first use.
+  EnsembleDetector(std::unique_ptr<Detector> first, std::string second_name, Factory make_second,
                    const DetectorConfig& config);
   std::vector<Detection> Detect(const cv::Mat& bgr, const std::string& image_name) override;
   std::string name() const override;
 
  private:
-  Detector& Later(size_t k);
+  Detector& Second();
 
-  std::unique_ptr<Detector> first_;  // thread-safe on its own, as each later member
-  std::vector<Factory> factories_;
-  std::vector<std::unique_ptr<Detector>> later_;
-  std::unique_ptr<std::once_flag[]> built_;  // one per later member
+  std::unique_ptr<Detector> first_;  // thread-safe on its own, as the second
+  std::string second_name_;
+  Factory make_second_;
+  std::once_flag second_built_;
+  std::unique_ptr<Detector> second_;
   DetectorConfig config_;
 };
 

@@ -39,14 +39,14 @@ std::unique_ptr<Detector> MakeDetector(const DetectorConfig& config,
                                              paths.picodet_classes, config, inference);
   }
   if (config.backend == "ensemble") {
-    std::vector<EnsembleDetector::Factory> later;
-    later.push_back([paths, config, inference]() -> std::unique_ptr<Detector> {
-      return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_opencv_onnx,
-                                               paths.picodet_classes, config, inference);
-    });
     return std::make_unique<EnsembleDetector>(
         std::make_unique<YoloxDetector>(paths.yolox_onnx, paths.yolox_classes, config, inference),
-        std::move(later), config);
+        "picodet",
+        [paths, config, inference]() -> std::unique_ptr<Detector> {
+          return std::make_unique<PicodetDetector>(paths.picodet_onnx, paths.picodet_opencv_onnx,
+                                                   paths.picodet_classes, config, inference);
+        },
+        config);
   }
   if (config.backend == "file") return std::make_unique<FileDetector>(config);
   throw MakeInputError("detector.backend",

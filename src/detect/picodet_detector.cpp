@@ -168,43 +168,34 @@ std::vector<Detection> PicodetDetector::Detect(const cv::Mat& bgr, const std::st
   return detail::PicodetDecode(outputs, letterbox, bgr.size(), classes_, config_, onnx_path_);
 }
 
-EnsembleDetector::EnsembleDetector(std::unique_ptr<Detector> first, std::vector<Factory> later,
-                                   const DetectorConfig& config)
+EnsembleDetector::EnsembleDetector(std::unique_ptr<Detector> first, std::string second_name,
+                                   Factory make_second, const DetectorConfig& config)
     : first_(std::move(first)),
-      factories_(std::move(later)),
-      later_(factories_.size()),
-      built_(new std::once_flag[factories_.size()]),
+      second_name_(std::move(second_name)),
+      make_second_(std::move(make_second)),
       config_(config) {
-  if (config_.ensemble_below <= 0) {
-    for (size_t k = 0; k < factories_.size(); ++k) Later(k);
-  }
+  if (config_.ensemble_below <= 0) Second();
 }
 
-Detector& EnsembleDetector::Later(size_t k) {
-  std::call_once(built_[k], [&] { later_[k] = factories_[k](); });
-  return *later_[k];
+Detector& EnsembleDetector::Second() {
+  std::call_once(second_built_, [&] { second_ = make_second_(); });
+  return *second_;
 }
 
 std::vector<Detection> EnsembleDetector::Detect(const cv::Mat& bgr, const std::string& image_name) {
-  // Members in their fixed order, each list by decreasing score: NMS's stable sort then breaks
+  // The members in their fixed order, each list by decreasing score: NMS's stable sort then breaks
   // score ties by member order, so the result does not depend on timing or threads.
   std::vector<Detection> all = first_->Detect(bgr, image_name);
-  const bool enough =
-      config_.ensemble_below > 0 && all.size() >= static_cast<size_t>(config_.ensemble_below);
-  if (enough) return all;  // already per-class NMS'd by the member
-  for (size_t k = 0; k < factories_.size(); ++k) {
-    std::vector<Detection> found = Later(k).Detect(bgr, image_name);
-    all.insert(all.end(), found.begin(), found.end());
+  if (config_.ensemble_below > 0 && all.size() >= static_cast<size_t>(config_.ensemble_below)) {
+    return all;  // enough: the first member's own (per-class NMS'd) list
   }
+  std::vector<Detection> found = Second().Detect(bgr, image_name);
+  all.insert(all.end(), found.begin(), found.end());
   return detail::NonMaxSuppressionPerClass(all, config_.nms_iou);
 }
 
 std::string EnsembleDetector::name() const {
-  std::string n = "ensemble(" + first_->name();
-  for (size_t k = 0; k < factories_.size(); ++k) {
-    // A member not built yet is named by what it will be.
-    n += "+" + (later_[k] ? later_[k]->name() : std::string("picodet"));
-  }
+  std::string n = "ensemble(" + first_->name() + "+" + second_name_;
   if (config_.ensemble_below > 0) n += " below " + std::to_string(config_.ensemble_below);
   return n + ")";
 }

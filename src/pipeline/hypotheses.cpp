@@ -123,7 +123,7 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
                 "surface",
                 result->num_inliers, result->path.c_str(), rival.num_inliers, apart_surface_m);
   // Which rule, if any, lets the rival win, and what the reason says of it (the surface support
-  // figures only where the degenerate or rescued rule was asked).
+  // figures only where the degenerate, rescued or single-match rule was asked).
   std::string asked_support = degenerate || rescued || single ? support : "";
   const char* why = nullptr;
   if (config.hypotheses.image_rival && rival.valid && disagree &&
