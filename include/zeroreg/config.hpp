@@ -247,12 +247,25 @@ struct SegmenterConfig {
   // (the segmenter gets no intrinsics). Kinect 585/640 = 0.91, ScanNet 1170/1296 = 0.90.
   double focal_length_fraction = 0.9;
   // Colour and depth are not registered on 7-Scenes (~5 px, data MANIFEST), so mask pixels within
-  // depth_edge_radius_px of a depth jump larger than depth_edge_relative * depth (or of invalid
-  // depth) are dropped: their depth may belong to the object behind or in front. Together with
-  // the erosion below the mask keeps 4 px off depth jumps; colour pixels that bleed further onto
-  // the background are removed by the depth band. Larger radii erase thin parts (chair rails).
+  // depth_edge_radius_px of a depth jump larger than depth_edge_relative * depth (between valid
+  // readings, or of a hole; see min_hole_width_px) are dropped: their depth may belong to the
+  // object behind or in front. Together with the erosion below the mask keeps 4 px off depth jumps;
+  // colour pixels that bleed further onto the background are removed by the depth band. Larger
+  // radii erase thin parts (chair rails).
   int depth_edge_radius_px = 3;
   double depth_edge_relative = 0.05;
+  // Missing depth within the radius is an edge only where the hole holds a min_hole_width_px x
+  // min_hole_width_px square of missing pixels (a morphological opening of the hole mask): a
+  // sensor's shadow or an out-of-range surface, whose border may be an object's. A thinner gap is
+  // a hole in the sampling, not a surface boundary, and the jump is measured between the window's
+  // valid readings across it. HoloLens depth has rings of missing pixels 1-2 px wide all over the
+  // image (data MANIFEST): counted as edges they put 66-73 % of its valid pixels within 3 px of
+  // an "edge" and the masks shrank to the fragments between the rings; with 3, 10-11 %. On the
+  // Kinect and TUM frames 98-99 % of the missing pixels lie in holes at least 3 px wide, so
+  // little changes there (4-8 % of valid pixels near a hole instead of 5-9 %). 1 = every missing
+  // pixel is an edge (the rule before the nineteenth session). docs/PERCEPTION.md, "Thin holes
+  // are not depth edges".
+  int min_hole_width_px = 3;
   // Noisy depth is neither an edge nor off the object's layer. With sigma(d) = a d^2 the depth
   // noise of the view (a measured from its depth, src/estimate/depth_noise.hpp), a window counts
   // as a depth edge only when its readings also spread over more than 2 * depth_noise_sigmas *

@@ -161,6 +161,7 @@ void Visit(V& v, SegmenterConfig& c) {
   v("focal_length_fraction", c.focal_length_fraction, Positive());
   v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
   v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
+  v("min_hole_width_px", c.min_hole_width_px, AtLeast(1));
   v("depth_noise_sigmas", c.depth_noise_sigmas, AtLeast(0));
   v("erosion_px", c.erosion_px, AtLeast(0));
   v("min_box_fraction", c.min_box_fraction, Fraction());

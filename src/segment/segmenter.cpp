@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
@@ -295,6 +296,8 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
           "depth_edge_relative", num(config.depth_edge_relative), "a value > 0");
   require(config.depth_noise_sigmas >= 0.0 && std::isfinite(config.depth_noise_sigmas),
           "depth_noise_sigmas", num(config.depth_noise_sigmas), "a value >= 0 (0 = no floor)");
+  require(config.min_hole_width_px >= 1 && config.min_hole_width_px <= 64, "min_hole_width_px",
+          std::to_string(config.min_hole_width_px), "1..64 pixels (1 = every hole is an edge)");
   require(config.erosion_px >= 0 && config.erosion_px <= 64, "erosion_px",
           std::to_string(config.erosion_px), "0..64 pixels");
   require(config.min_box_fraction >= 0.0 && config.min_box_fraction <= 1.0, "min_box_fraction",
@@ -381,8 +384,8 @@ cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const Segment
   // Readings of one surface each within depth_noise_sigmas sigma(d) of it spread over at most
   // twice that (SegmenterConfig::depth_noise_sigmas).
   const double noise_range_at_1m = 2.0 * config.depth_noise_sigmas * depth_noise_at_1m_m;
-  const cv::Mat edges_padded =
-      DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative, noise_range_at_1m);
+  const cv::Mat edges_padded = DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative,
+                                             noise_range_at_1m, config.min_hole_width_px);
   return edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height)).clone();
 }
 
@@ -396,19 +399,31 @@ cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size) {
   return cv::Rect(x1, y1, x2 - x1, y2 - y1);
 }
 
-cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
-                      double noise_range_at_1m) {
+cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, double noise_range_at_1m,
+                      int min_hole_width_px) {
   cv::Mat edges = cv::Mat::zeros(depth_m.size(), CV_8UC1);
   if (radius <= 0 || depth_m.empty()) return edges;
-  // Invalid readings (0, NaN, inf) become 0 so that the window minimum sees them.
+  // Invalid readings (0, NaN, inf) become 0, which the window maximum ignores. For the window
+  // minimum the pixels of thin holes become the largest float, so that it sees the valid readings
+  // across them, and the pixels of wide holes stay 0, which makes every window that reaches one
+  // an edge.
   cv::Mat depth = depth_m.clone();
   depth.forEach<float>([](float& d, const int*) {
     if (!ValidDepth(d)) d = 0.0f;
   });
+  cv::Mat depth_for_min = depth;
+  if (min_hole_width_px > 1) {
+    const cv::Mat holes = depth <= 0.0f;
+    cv::Mat wide_holes;
+    cv::morphologyEx(holes, wide_holes, cv::MORPH_OPEN,
+                     cv::Mat::ones(min_hole_width_px, min_hole_width_px, CV_8UC1));
+    depth_for_min = depth.clone();
+    depth_for_min.setTo(std::numeric_limits<float>::max(), holes & ~wide_holes);
+  }
   const cv::Mat kernel = cv::Mat::ones(2 * radius + 1, 2 * radius + 1, CV_8UC1);
   cv::Mat lo, hi;
   // Image borders do not count as jumps: erode/dilate pad with +max / -max by default.
-  cv::erode(depth, lo, kernel);
+  cv::erode(depth_for_min, lo, kernel);
   cv::dilate(depth, hi, kernel);
   for (int v = 0; v < depth.rows; ++v) {
     const float* d = depth.ptr<float>(v);

@@ -75,11 +75,13 @@ namespace detail {
 // image of size `size`. May be empty.
 cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size);
 
-// CV_8UC1, 255 where a pixel has valid depth (> 0 and finite) and some pixel within `radius` px
-// (square window) is invalid, or the window's readings spread over more than both `relative` *
-// the pixel's depth d and `noise_range_at_1m` * d^2 (the spread noise alone can make; 0 = none).
+// CV_8UC1, 255 where a pixel has valid depth (> 0 and finite) and, in the square window of
+// `radius` px around it, the valid readings spread over more than both `relative` * the pixel's
+// depth d and `noise_range_at_1m` * d^2 (the spread noise alone can make; 0 = none), or some pixel
+// belongs to a hole that holds a `min_hole_width_px` square of invalid pixels (1 = any invalid
+// pixel; SegmenterConfig::min_hole_width_px).
 cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
-                      double noise_range_at_1m = 0.0);
+                      double noise_range_at_1m = 0.0, int min_hole_width_px = 1);
 
 // The depth steps every colour mask goes through (GrabCut's and SAM's): pixels of `candidates`
 // (box coordinates) whose depth lies in the band around the median valid depth of `reference`,
