@@ -259,12 +259,12 @@ struct SegmenterConfig {
   // sensor's shadow or an out-of-range surface, whose border may be an object's. A thinner gap is
   // a hole in the sampling, not a surface boundary, and the jump is measured between the window's
   // valid readings across it. HoloLens depth has rings of missing pixels 1-2 px wide all over the
-  // image (data MANIFEST): counted as edges they put 66-73 % of its valid pixels within 3 px of
-  // an "edge" and the masks shrank to the fragments between the rings; with 3, 10-11 %. On the
-  // Kinect and TUM frames 98-99 % of the missing pixels lie in holes at least 3 px wide, so
-  // little changes there (4-8 % of valid pixels near a hole instead of 5-9 %). 1 = every missing
-  // pixel is an edge (the rule before the nineteenth session). docs/PERCEPTION.md, "Thin holes
-  // are not depth edges".
+  // image (data MANIFEST): counted as edges they made 70-74 % of its valid pixels edge pixels
+  // (11-12 % with 3), and the masks shrank to the fragments between the rings. On the Kinect and
+  // TUM frames 98-99 % of the missing pixels lie in holes at least 3 px wide, and the share of
+  // edge pixels moves by under a point. Any width >= 1 is exact (even ones too). 1 = every
+  // missing pixel is an edge (the rule before the nineteenth session). docs/PERCEPTION.md, "Thin
+  // holes are not depth edges".
   int min_hole_width_px = 3;
   // Noisy depth is neither an edge nor off the object's layer. With sigma(d) = a d^2 the depth
   // noise of the view (a measured from its depth, src/estimate/depth_noise.hpp), a window counts

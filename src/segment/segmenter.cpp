@@ -379,8 +379,12 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
 cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
                       double depth_noise_at_1m_m) {
   const int r = config.depth_edge_radius_px;
-  const cv::Rect padded = cv::Rect(box.x - r, box.y - r, box.width + 2 * r, box.height + 2 * r) &
-                          cv::Rect(0, 0, depth_m.cols, depth_m.rows);
+  // The box padded so that its border pixels see their whole window, and each window pixel every
+  // min_hole_width_px square it may lie in: the edges are those of the whole image, cropped.
+  const int pad = r + std::max(0, config.min_hole_width_px - 1);
+  const cv::Rect padded =
+      cv::Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad) &
+      cv::Rect(0, 0, depth_m.cols, depth_m.rows);
   // Readings of one surface each within depth_noise_sigmas sigma(d) of it spread over at most
   // twice that (SegmenterConfig::depth_noise_sigmas).
   const double noise_range_at_1m = 2.0 * config.depth_noise_sigmas * depth_noise_at_1m_m;
@@ -413,10 +417,17 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, doubl
   });
   cv::Mat depth_for_min = depth;
   if (min_hole_width_px > 1) {
+    // The missing pixels that lie in some k x k square of missing pixels: a morphological opening,
+    // written as its two steps so that it is exact for even k too (the erosion marks the top-left
+    // corner of every such square, the dilation spreads each corner back over its square).
+    // Outside the image counts as not missing: a gap along the border is judged by what is seen.
+    const int k = min_hole_width_px;
     const cv::Mat holes = depth <= 0.0f;
-    cv::Mat wide_holes;
-    cv::morphologyEx(holes, wide_holes, cv::MORPH_OPEN,
-                     cv::Mat::ones(min_hole_width_px, min_hole_width_px, CV_8UC1));
+    const cv::Mat square = cv::Mat::ones(k, k, CV_8UC1);
+    cv::Mat corners, wide_holes;
+    cv::erode(holes, corners, square, cv::Point(0, 0), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    cv::dilate(corners, wide_holes, square, cv::Point(k - 1, k - 1), 1, cv::BORDER_CONSTANT,
+               cv::Scalar(0));
     depth_for_min = depth.clone();
     depth_for_min.setTo(std::numeric_limits<float>::max(), holes & ~wide_holes);
   }

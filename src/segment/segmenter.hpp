@@ -78,8 +78,8 @@ cv::Rect BoxPixelRect(const cv::Rect2f& box, cv::Size size);
 // CV_8UC1, 255 where a pixel has valid depth (> 0 and finite) and, in the square window of
 // `radius` px around it, the valid readings spread over more than both `relative` * the pixel's
 // depth d and `noise_range_at_1m` * d^2 (the spread noise alone can make; 0 = none), or some pixel
-// belongs to a hole that holds a `min_hole_width_px` square of invalid pixels (1 = any invalid
-// pixel; SegmenterConfig::min_hole_width_px).
+// is invalid and lies in a `min_hole_width_px` x `min_hole_width_px` square of invalid pixels (1 =
+// any invalid pixel; SegmenterConfig::min_hole_width_px). Outside the image counts as valid.
 cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative,
                       double noise_range_at_1m = 0.0, int min_hole_width_px = 1);
 
@@ -92,9 +92,9 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
                    const cv::Mat& reference, double size_per_metre_depth,
                    const SegmenterConfig& config, double depth_noise_at_1m_m);
 
-// Depth edges (DepthEdgeMask with the config's radius and thresholds, the noise floor from
-// `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius so that the box
-// border sees its neighbours. Box coordinates.
+// Depth edges (DepthEdgeMask with the config's radius, thresholds and hole width, the noise floor
+// from `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius and the hole
+// width, so that they equal the whole image's edges cropped to the box. Box coordinates.
 cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
                       double depth_noise_at_1m_m);
 
