@@ -17,10 +17,13 @@
 #include "detect/perception_test_util.hpp"
 #include "inference/onnx_model.hpp"
 #include "objects/appearance.hpp"
+#include "segment/mask_stats.hpp"
 #include "zeroreg/io.hpp"
 
 namespace zeroreg {
 namespace {
+
+using mask_test::DepthIqr;
 
 using perception_test::AssetsDir;
 using perception_test::ExpectInputError;
@@ -65,20 +68,6 @@ cv::Mat BoxMask(const cv::Rect2f& box, cv::Size size) {
   const cv::Rect r = detail::BoxPixelRect(box, size);
   if (!r.empty()) m(r).setTo(255);
   return m;
-}
-
-// Interquartile range of the valid depth under `mask` (metres).
-double DepthIqr(const cv::Mat& depth, const cv::Mat& mask) {
-  std::vector<float> v;
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) {
-      const float d = depth.at<float>(y, x);
-      if (mask.at<uchar>(y, x) && d > 0.0f) v.push_back(d);
-    }
-  }
-  if (v.size() < 4) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[3 * v.size() / 4] - v[v.size() / 4];
 }
 
 #define SKIP_WITHOUT_ORT() \

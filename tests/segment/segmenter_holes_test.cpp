@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "segment/mask_stats.hpp"
 #include "segment/segmenter.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/error.hpp"
@@ -18,6 +19,8 @@
 namespace zeroreg {
 namespace {
 
+using mask_test::DepthIqr;
+
 constexpr int kRadius = 3;
 constexpr double kRelative = 0.05;
 
@@ -25,20 +28,6 @@ constexpr double kRelative = 0.05;
 double EdgeShare(const cv::Mat& depth, int min_hole_width_px) {
   const cv::Mat edges = detail::DepthEdgeMask(depth, kRadius, kRelative, 0.0, min_hole_width_px);
   return static_cast<double>(cv::countNonZero(edges)) / cv::countNonZero(depth > 0.0f);
-}
-
-// Interquartile range of the valid depth under `mask` (metres).
-double DepthIqr(const cv::Mat& depth, const cv::Mat& mask) {
-  std::vector<float> values;
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) {
-      const float d = depth.at<float>(y, x);
-      if (mask.at<uchar>(y, x) && d > 0.0f) values.push_back(d);
-    }
-  }
-  if (values.size() < 4) return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[values.size() * 3 / 4] - values[values.size() / 4];
 }
 
 // A flat surface 2 m away with a vertical gap of 1 px at x = 40, one of 2 px at x = 80..81 and a

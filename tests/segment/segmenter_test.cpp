@@ -14,11 +14,14 @@
 #include <vector>
 
 #include "detect/perception_test_util.hpp"
+#include "segment/mask_stats.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 
 namespace zeroreg {
 namespace {
+
+using mask_test::DepthIqr;
 
 using perception_test::ExpectInputError;
 using perception_test::FramePath;
@@ -71,19 +74,6 @@ double Iou(const cv::Mat& a, const cv::Mat& b) {
   const int inter = cv::countNonZero(a & b);
   const int uni = cv::countNonZero(a | b);
   return uni == 0 ? 0.0 : static_cast<double>(inter) / uni;
-}
-
-// Interquartile range of the valid depths under `mask`.
-double DepthIqr(const cv::Mat& depth, const cv::Mat& mask) {
-  std::vector<float> v;
-  for (int y = 0; y < depth.rows; ++y) {
-    for (int x = 0; x < depth.cols; ++x) {
-      if (mask.at<uchar>(y, x) && depth.at<float>(y, x) > 0.0f) v.push_back(depth.at<float>(y, x));
-    }
-  }
-  if (v.size() < 4) return 0.0;
-  std::sort(v.begin(), v.end());
-  return v[3 * v.size() / 4] - v[v.size() / 4];
 }
 
 cv::Mat BoxMask(const cv::Rect2f& box, cv::Size size) {
