@@ -7,6 +7,7 @@
 #include "estimate/depth_noise.hpp"
 #include "features/xfeat_extractor.hpp"
 #include "io/text_parsing.hpp"
+#include "segment/segmenter.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -51,10 +52,21 @@ Runner AddInfoCommand(CLI::App& app) {
         // What the noise floors of lifting and segmentation will use (docs/CONFIG.md, "Depth
         // noise").
         if (const std::optional<double> a = MeasureDepthNoiseAt1m(v)) {
-          std::printf(", depth noise %.2f mm at 1 m\n", *a * 1000.0);
+          std::printf(", depth noise %.2f mm at 1 m", *a * 1000.0);
         } else {
-          std::printf(", depth noise not measurable\n");
+          std::printf(", depth noise not measurable");
         }
+        // Missing depth in gaps thinner than the segmenter's hole width is a hole in the
+        // sensor's sampling, not an object's outline (docs/PERCEPTION.md, "Thin holes are not
+        // depth edges"): a depth map warped from a lower-resolution sensor shows many.
+        const int missing = static_cast<int>(v.depth.total()) - cv::countNonZero(v.depth > 0);
+        if (missing > 0) {
+          const int width = config.segmenter.min_hole_width_px;
+          const int wide = cv::countNonZero(detail::WideHoles(v.depth, width));
+          std::printf(", %.1f%% of the missing depth in gaps thinner than %d px",
+                      (missing - wide) * 100.0 / missing, width);
+        }
+        std::printf("\n");
       }
       // ICP's auto grid decides on the scan's median (RefineConfig::pixel_stride); a scan with a
       // point cloud (a fragment) gives ICP that cloud instead of its depth pixels.

@@ -417,19 +417,10 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, doubl
   });
   cv::Mat depth_for_min = depth;
   if (min_hole_width_px > 1) {
-    // The missing pixels that lie in some k x k square of missing pixels: a morphological opening,
-    // written as its two steps so that it is exact for even k too (the erosion marks the top-left
-    // corner of every such square, the dilation spreads each corner back over its square).
-    // Outside the image counts as not missing: a gap along the border is judged by what is seen.
-    const int k = min_hole_width_px;
     const cv::Mat holes = depth <= 0.0f;
-    const cv::Mat square = cv::Mat::ones(k, k, CV_8UC1);
-    cv::Mat corners, wide_holes;
-    cv::erode(holes, corners, square, cv::Point(0, 0), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-    cv::dilate(corners, wide_holes, square, cv::Point(k - 1, k - 1), 1, cv::BORDER_CONSTANT,
-               cv::Scalar(0));
     depth_for_min = depth.clone();
-    depth_for_min.setTo(std::numeric_limits<float>::max(), holes & ~wide_holes);
+    depth_for_min.setTo(std::numeric_limits<float>::max(),
+                        holes & ~WideHoles(depth, min_hole_width_px));
   }
   const cv::Mat kernel = cv::Mat::ones(2 * radius + 1, 2 * radius + 1, CV_8UC1);
   cv::Mat lo, hi;
@@ -448,6 +439,26 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, doubl
     }
   }
   return edges;
+}
+
+cv::Mat WideHoles(const cv::Mat& depth_m, int width) {
+  cv::Mat holes(depth_m.size(), CV_8UC1);
+  for (int v = 0; v < depth_m.rows; ++v) {
+    const float* d = depth_m.ptr<float>(v);
+    uchar* h = holes.ptr<uchar>(v);
+    for (int u = 0; u < depth_m.cols; ++u) h[u] = ValidDepth(d[u]) ? 0 : 255;
+  }
+  if (width <= 1) return holes;
+  // A morphological opening, written as its two steps so that it is exact for even widths too:
+  // the erosion marks the top-left corner of every width x width square of missing pixels, the
+  // dilation spreads each corner back over its square. Outside the image counts as not missing:
+  // a gap along the border is judged by what the image shows of it.
+  const cv::Mat square = cv::Mat::ones(width, width, CV_8UC1);
+  cv::Mat corners, wide;
+  cv::erode(holes, corners, square, cv::Point(0, 0), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::dilate(corners, wide, square, cv::Point(width - 1, width - 1), 1, cv::BORDER_CONSTANT,
+             cv::Scalar(0));
+  return wide;
 }
 
 std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index) {
