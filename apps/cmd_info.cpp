@@ -59,10 +59,11 @@ Runner AddInfoCommand(CLI::App& app) {
         // Missing depth in gaps thinner than the segmenter's hole width is a hole in the
         // sensor's sampling, not an object's outline (docs/PERCEPTION.md, "Thin holes are not
         // depth edges"): a depth map warped from a lower-resolution sensor shows many.
-        const int missing = static_cast<int>(v.depth.total()) - cv::countNonZero(v.depth > 0);
+        const cv::Mat missing_mask = detail::MissingDepth(v.depth);
+        const int missing = cv::countNonZero(missing_mask);
         if (missing > 0) {
           const int width = config.segmenter.min_hole_width_px;
-          const int wide = cv::countNonZero(detail::WideHoles(v.depth, width));
+          const int wide = cv::countNonZero(detail::WideHoles(missing_mask, width));
           std::printf(", %.1f%% of the missing depth in gaps thinner than %d px",
                       (missing - wide) * 100.0 / missing, width);
         }

@@ -411,16 +411,14 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, doubl
   // minimum the pixels of thin holes become the largest float, so that it sees the valid readings
   // across them, and the pixels of wide holes stay 0, which makes every window that reaches one
   // an edge.
+  const cv::Mat missing = MissingDepth(depth_m);
   cv::Mat depth = depth_m.clone();
-  depth.forEach<float>([](float& d, const int*) {
-    if (!ValidDepth(d)) d = 0.0f;
-  });
+  depth.setTo(0.0f, missing);
   cv::Mat depth_for_min = depth;
   if (min_hole_width_px > 1) {
-    const cv::Mat holes = depth <= 0.0f;
     depth_for_min = depth.clone();
     depth_for_min.setTo(std::numeric_limits<float>::max(),
-                        holes & ~WideHoles(depth, min_hole_width_px));
+                        missing & ~WideHoles(missing, min_hole_width_px));
   }
   const cv::Mat kernel = cv::Mat::ones(2 * radius + 1, 2 * radius + 1, CV_8UC1);
   cv::Mat lo, hi;
@@ -441,21 +439,25 @@ cv::Mat DepthEdgeMask(const cv::Mat& depth_m, int radius, double relative, doubl
   return edges;
 }
 
-cv::Mat WideHoles(const cv::Mat& depth_m, int width) {
-  cv::Mat holes(depth_m.size(), CV_8UC1);
+cv::Mat MissingDepth(const cv::Mat& depth_m) {
+  cv::Mat missing(depth_m.size(), CV_8UC1);
   for (int v = 0; v < depth_m.rows; ++v) {
     const float* d = depth_m.ptr<float>(v);
-    uchar* h = holes.ptr<uchar>(v);
-    for (int u = 0; u < depth_m.cols; ++u) h[u] = ValidDepth(d[u]) ? 0 : 255;
+    uchar* m = missing.ptr<uchar>(v);
+    for (int u = 0; u < depth_m.cols; ++u) m[u] = ValidDepth(d[u]) ? 0 : 255;
   }
-  if (width <= 1) return holes;
+  return missing;
+}
+
+cv::Mat WideHoles(const cv::Mat& missing, int width) {
+  if (width <= 1) return missing.clone();
   // A morphological opening, written as its two steps so that it is exact for even widths too:
   // the erosion marks the top-left corner of every width x width square of missing pixels, the
   // dilation spreads each corner back over its square. Outside the image counts as not missing:
   // a gap along the border is judged by what the image shows of it.
   const cv::Mat square = cv::Mat::ones(width, width, CV_8UC1);
   cv::Mat corners, wide;
-  cv::erode(holes, corners, square, cv::Point(0, 0), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::erode(missing, corners, square, cv::Point(0, 0), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
   cv::dilate(corners, wide, square, cv::Point(width - 1, width - 1), 1, cv::BORDER_CONSTANT,
              cv::Scalar(0));
   return wide;

@@ -92,11 +92,14 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
                    const cv::Mat& reference, double size_per_metre_depth,
                    const SegmenterConfig& config, double depth_noise_at_1m_m);
 
-// CV_8UC1, 255 at the invalid pixels (0, negative or not finite) of `depth_m` that lie in some
-// `width` x `width` square of invalid pixels: the holes that are more than a gap in the sensor's
-// sampling (SegmenterConfig::min_hole_width_px; width 1 = every invalid pixel). Outside the image
-// counts as valid.
-cv::Mat WideHoles(const cv::Mat& depth_m, int width);
+// CV_8UC1, 255 at the pixels of `depth_m` without a reading (0, negative or not finite).
+cv::Mat MissingDepth(const cv::Mat& depth_m);
+
+// The pixels of `missing` (MissingDepth) that lie in some `width` x `width` square of missing
+// pixels: the holes that are more than a gap in the sensor's sampling
+// (SegmenterConfig::min_hole_width_px; width 1 = every missing pixel). Outside the image counts
+// as not missing.
+cv::Mat WideHoles(const cv::Mat& missing, int width);
 
 // Depth edges (DepthEdgeMask with the config's radius, thresholds and hole width, the noise floor
 // from `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius and the hole
