@@ -776,13 +776,16 @@ void BindResult(py::module_& m) {
               d["target"] = match.target;
               d["node_similarity"] = match.node_similarity;
               d["num_correspondences"] = match.num_correspondences;
+              d["point_support"] = match.point_support;
               out.append(d);
             }
             return out;
           },
           "Matched object pairs (paper §3.3, Eq. 2), each a dict: source and target (indices into "
           "source_objects / target_objects), node_similarity (C = 1 + cosine of the semantic "
-          "features), num_correspondences (point correspondences found inside the pair).")
+          "features), num_correspondences (point correspondences found inside the pair), "
+          "point_support (the most of them one rigid motion explains; -1 unless "
+          "object_match.min_point_support is on).")
       .def_readonly("rejected_object_matches", &RegistrationResult::rejected_object_matches,
                     "Matches of Eq. 2 that the rigidity check dropped "
                     "(object_match.rigidity_tolerance_m); they are not in object_matches.")

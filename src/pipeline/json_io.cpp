@@ -205,6 +205,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("appearance_weight", c.appearance_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
   v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
+  v("min_point_support", c.min_point_support, AtLeast(0));
   v("restarts", c.restarts, AtLeast(1));
   v("iterations", c.iterations, AtLeast(1));
 }
@@ -579,6 +580,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
                          {"target_label", r.target_objects[m.target].label},
                          {"node_similarity", m.node_similarity},
                          {"correspondences", m.num_correspondences}});
+      if (m.point_support >= 0) matches.back()["point_support"] = m.point_support;
     }
     j["objects"] = {{"source", ObjectsToJson(r.source_objects)},
                     {"target", ObjectsToJson(r.target_objects)},

@@ -9,6 +9,7 @@
 #include <tuple>
 
 #include "estimate/depth_noise.hpp"
+#include "estimate/max_clique.hpp"
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
 #include "object_match/rigidity.hpp"
@@ -56,6 +57,56 @@ std::vector<ObjectSummary> Summarise(const SceneObjects& scene) {
     out.push_back(std::move(s));
   }
   return out;
+}
+
+// A point match inside an object pair, keyed by (source view, source row, target view, target
+// row) so that a keypoint pair found in two overlapping object pairs is given once.
+struct KeyedCorrespondence {
+  std::tuple<int, int, int, int> key;
+  Correspondence correspondence;
+};
+
+// §3.4 inside one object pair: every view of the source object against every view of the target
+// object (or view i with view i only, method.object_all_view_pairs false; a single-view scan has
+// one pair either way). A fragment may see an object in some views only.
+std::vector<KeyedCorrespondence> MatchInsideObjects(const PerceivedScan& s, const PerceivedScan& t,
+                                                    int source_object, int target_object,
+                                                    const DescriptorMatcher& matcher,
+                                                    bool all_view_pairs) {
+  std::vector<KeyedCorrespondence> out;
+  for (int is : s.objects.objects[source_object].observations) {
+    for (int it : t.objects.objects[target_object].observations) {
+      const ObjectObservation& os = s.objects.observations[is];
+      const ObjectObservation& ot = t.objects.observations[it];
+      if (!all_view_pairs && os.view != ot.view) continue;
+      const LiftedFeatures& fs = s.view_features[os.view];
+      const LiftedFeatures& ft = t.view_features[ot.view];
+      const std::vector<int>& rows_s = s.observation_rows[is];
+      const std::vector<int>& rows_t = t.observation_rows[it];
+      const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
+      for (const DescriptorMatch& m : matcher.Match(sub_s.descriptors, sub_t.descriptors, 1)) {
+        const int a = rows_s[m.source], b = rows_t[m.target];
+        out.push_back({{os.view, a, ot.view, b},
+                       {fs.points[a], ft.points[b], fs.features.keypoints[a],
+                        ft.features.keypoints[b], os.view, ot.view, m.score}});
+      }
+    }
+  }
+  return out;
+}
+
+// The most of an object pair's point matches that one rigid motion explains: the clique
+// estimator's inliers (length consistency needs no transform guess, and it is deterministic).
+int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacConfig& ransac) {
+  if (matches.size() < 3) return static_cast<int>(matches.size());
+  std::vector<Eigen::Vector3d> source, target;
+  std::vector<float> scores;
+  for (const KeyedCorrespondence& m : matches) {
+    source.push_back(m.correspondence.source);
+    target.push_back(m.correspondence.target);
+    scores.push_back(m.correspondence.score);
+  }
+  return EstimateRigidClique(source, target, scores, ransac).num_inliers;
 }
 
 }  // namespace
@@ -190,6 +241,16 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   const std::vector<SceneObject>& objects_s = s.objects.objects;
   const std::vector<SceneObject>& objects_t = t.objects.objects;
 
+  const auto match_inside = [&](int source_object, int target_object) {
+    return MatchInsideObjects(s, t, source_object, target_object, matcher_,
+                              config_.method.object_all_view_pairs);
+  };
+  struct PointSupport {
+    std::vector<KeyedCorrespondence> matches;
+    int support = -1;  // -1: not measured
+  };
+  std::map<std::pair<int, int>, PointSupport> candidates;  // (source, target) object
+
   // §3.3: scene graphs (Eq. 1), node similarity C, quadratic assignment (Eq. 2), label filter.
   timer.Restart();
   std::vector<ObjectPair> pairs;
@@ -213,9 +274,25 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     std::vector<std::string> labels_s, labels_t;
     for (const SceneObject& o : objects_s) labels_s.push_back(o.label);
     for (const SceneObject& o : objects_t) labels_t.push_back(o.label);
-    const MatchMask allowed = config_.method.label_mask_in_solve
-                                  ? LabelCompatibilityMask(labels_s, labels_t)
-                                  : MatchMask();
+    MatchMask allowed = config_.method.label_mask_in_solve
+                            ? LabelCompatibilityMask(labels_s, labels_t)
+                            : MatchMask();
+    // Point support: the label-compatible pairs whose surfaces do not match point to point are
+    // not candidates of Eq. 2 (object_match.min_point_support). Their matches are kept for §3.4.
+    if (config_.object_match.min_point_support > 0) {
+      const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
+      if (allowed.size() == 0)
+        allowed = MatchMask::Constant(labels_agree.rows(), labels_agree.cols(), true);
+      for (Eigen::Index j = 0; j < allowed.rows(); ++j) {
+        for (Eigen::Index k = 0; k < allowed.cols(); ++k) {
+          if (!allowed(j, k) || !labels_agree(j, k)) continue;
+          PointSupport& p = candidates[{static_cast<int>(j), static_cast<int>(k)}];
+          p.matches = match_inside(static_cast<int>(j), static_cast<int>(k));
+          p.support = RigidSupport(p.matches, config_.ransac);
+          allowed(j, k) = p.support >= config_.object_match.min_point_support;
+        }
+      }
+    }
     const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
     // Paper §3.3: drop matched pairs whose labels differ.
     pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
@@ -255,34 +332,20 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     return result;
   }
 
-  // §3.4: point matches inside every matched pair. A scan of several views (a fragment) may see
-  // an object in some views only, and the two scans' views need not correspond one to one: every
-  // view of the source object is matched with every view of the target object
-  // (method.object_all_view_pairs; otherwise view i with view i only). A single-view scan has one
-  // pair either way.
-  const bool all_pairs = config_.method.object_all_view_pairs;
-  // (source view, source row, target view, target row): masks may overlap.
-  std::set<std::tuple<int, int, int, int>> seen;
+  // §3.4: point matches inside every matched pair (computed earlier for the candidates when point
+  // support was measured). Masks may overlap, so a keypoint pair is given once.
+  std::set<std::tuple<int, int, int, int>> seen;  // (source view, row, target view, row)
   for (const ObjectPair& pair : pairs) {
     ObjectMatchSummary summary{pair.source, pair.target, pair.node_similarity, 0};
-    for (int is : objects_s[pair.source].observations) {
-      for (int it : objects_t[pair.target].observations) {
-        const ObjectObservation& os = s.objects.observations[is];
-        const ObjectObservation& ot = t.objects.observations[it];
-        if (!all_pairs && os.view != ot.view) continue;
-        const LiftedFeatures& fs = s.view_features[os.view];
-        const LiftedFeatures& ft = t.view_features[ot.view];
-        const std::vector<int>& rows_s = s.observation_rows[is];
-        const std::vector<int>& rows_t = t.observation_rows[it];
-        const ImageFeatures sub_s = fs.features.Subset(rows_s), sub_t = ft.features.Subset(rows_t);
-        for (const DescriptorMatch& m : matcher_.Match(sub_s.descriptors, sub_t.descriptors, 1)) {
-          const int a = rows_s[m.source], b = rows_t[m.target];
-          if (!seen.emplace(os.view, a, ot.view, b).second) continue;
-          result.correspondences.push_back({fs.points[a], ft.points[b], fs.features.keypoints[a],
-                                            ft.features.keypoints[b], os.view, ot.view, m.score});
-          ++summary.num_correspondences;
-        }
-      }
+    const auto cached = candidates.find({pair.source, pair.target});
+    PointSupport fresh;  // the pair was not a measured candidate
+    if (cached == candidates.end()) fresh.matches = match_inside(pair.source, pair.target);
+    const PointSupport& found = cached != candidates.end() ? cached->second : fresh;
+    summary.point_support = found.support;
+    for (const KeyedCorrespondence& c : found.matches) {
+      if (!seen.emplace(c.key).second) continue;
+      result.correspondences.push_back(c.correspondence);
+      ++summary.num_correspondences;
     }
     result.object_matches.push_back(summary);
   }
