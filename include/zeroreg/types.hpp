@@ -85,8 +85,9 @@ struct ObjectMatchSummary {
   int target = 0;
   double node_similarity = 0.0;  // C = 1 + cos of the semantic features
   int num_correspondences = 0;   // point correspondences found inside the pair (§3.4)
-  // Most of those correspondences one rigid motion explains (object_match.min_point_support);
-  // -1 when not measured (the switch off).
+  // Most of the point matches between the two objects that one rigid motion explains
+  // (object_match.min_point_support); -1 when not measured (the switch off). Counted before
+  // overlapping masks are deduplicated, so it can exceed num_correspondences.
   int point_support = -1;
 };
 

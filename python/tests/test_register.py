@@ -223,8 +223,9 @@ def test_objects_and_matches_are_consistent(result_20_0_from_paths):
         assert 0 <= m["source"] < len(r.source_objects)
         assert 0 <= m["target"] < len(r.target_objects)
         # Point support (object_match.min_point_support, default 4): every match has at least that
-        # many rigidly consistent point matches, out of the correspondences found inside the pair.
-        assert 4 <= m["point_support"] <= m["num_correspondences"]
+        # many rigidly consistent point matches. (They may exceed num_correspondences: where two
+        # objects' masks overlap, a keypoint pair goes to the estimator once, counted by one pair.)
+        assert m["point_support"] >= 4
     # The rigidity check only removes matches: kept + rejected never exceeds the smaller object list.
     assert isinstance(r.rejected_object_matches, int) and r.rejected_object_matches >= 0
     assert len(r.object_matches) + r.rejected_object_matches <= min(
