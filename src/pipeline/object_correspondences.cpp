@@ -280,6 +280,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     // Point support: the label-compatible pairs whose surfaces do not match point to point are
     // not candidates of Eq. 2 (object_match.min_point_support). Their matches are kept for §3.4.
     if (config_.object_match.min_point_support > 0) {
+      timer.Mark("object_match");
       const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
       if (allowed.size() == 0)
         allowed = MatchMask::Constant(labels_agree.rows(), labels_agree.cols(), true);
@@ -292,6 +293,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
           allowed(j, k) = p.support >= config_.object_match.min_point_support;
         }
       }
+      timer.Mark("point_match");  // §3.4's matching, done here for every candidate pair
     }
     const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
     // Paper §3.3: drop matched pairs whose labels differ.
