@@ -206,6 +206,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("max_exact_assignments", c.max_exact_assignments);
   v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
   v("min_point_support", c.min_point_support, AtLeast(0));
+  v("motion_agreement", c.motion_agreement);
   v("restarts", c.restarts, AtLeast(1));
   v("iterations", c.iterations, AtLeast(1));
 }
@@ -422,6 +423,12 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
                          "\"sam\" (it pools SAM's image embedding), but the segmenter is "
                          "\"" +
                              c.segmenter.backend + "\"");
+  }
+  if (c.object_match.motion_agreement && c.object_match.min_point_support <= 0) {
+    throw MakeInputError(where,
+                         "object_match.motion_agreement needs object_match.min_point_support "
+                         "above 0 (each match's motion comes from its point support), but it is " +
+                             std::to_string(c.object_match.min_point_support));
   }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +

@@ -12,6 +12,7 @@
 #include "estimate/max_clique.hpp"
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
+#include "object_match/motion_agreement.hpp"
 #include "object_match/rigidity.hpp"
 #include "objects/proposals.hpp"
 
@@ -97,7 +98,9 @@ std::vector<KeyedCorrespondence> MatchInsideObjects(const PerceivedScan& s, cons
 
 // The most of an object pair's point matches that one rigid motion explains: the clique
 // estimator's inliers (length consistency needs no transform guess, and it is deterministic).
-int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacConfig& ransac) {
+// Returns their number; `motion` gets the motion and those inliers.
+int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacConfig& ransac,
+                 MatchMotion* motion) {
   if (matches.size() < 3) return static_cast<int>(matches.size());
   std::vector<Eigen::Vector3d> source, target;
   std::vector<float> scores;
@@ -106,7 +109,14 @@ int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacCo
     target.push_back(m.correspondence.target);
     scores.push_back(m.correspondence.score);
   }
-  return EstimateRigidClique(source, target, scores, ransac).num_inliers;
+  const RansacResult fit = EstimateRigidClique(source, target, scores, ransac);
+  motion->T_target_source = fit.T_target_source;
+  for (size_t i = 0; i < fit.is_inlier.size(); ++i) {
+    if (!fit.is_inlier[i]) continue;
+    motion->source.push_back(source[i]);
+    motion->target.push_back(target[i]);
+  }
+  return fit.num_inliers;
 }
 
 }  // namespace
@@ -247,7 +257,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   };
   struct PointSupport {
     std::vector<KeyedCorrespondence> matches;
-    int support = -1;  // -1: not measured
+    int support = -1;    // -1: not measured
+    MatchMotion motion;  // the motion that explains `support` of the matches, and those
   };
   std::map<std::pair<int, int>, PointSupport> candidates;  // (source, target) object
 
@@ -289,7 +300,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
           if (!allowed(j, k) || !labels_agree(j, k)) continue;
           PointSupport& p = candidates[{static_cast<int>(j), static_cast<int>(k)}];
           p.matches = match_inside(static_cast<int>(j), static_cast<int>(k));
-          p.support = RigidSupport(p.matches, config_.ransac);
+          p.support = RigidSupport(p.matches, config_.ransac, &p.motion);
           allowed(j, k) = p.support >= config_.object_match.min_point_support;
         }
       }
@@ -317,6 +328,24 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
           pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m, radius_s, radius_t);
       pairs = std::move(rigid.kept);
       result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
+    }
+    // Then the matches whose own motions disagree with the majority's (the scene moves as one).
+    if (config_.object_match.motion_agreement) {
+      // Every pair Eq. 2 may choose had its support measured (the label filter is the same
+      // test), so each has a motion.
+      std::vector<MatchMotion> motions;
+      for (const ObjectPair& pair : pairs) {
+        const auto found = candidates.find({pair.source, pair.target});
+        motions.push_back(found != candidates.end() ? found->second.motion : MatchMotion());
+      }
+      std::vector<ObjectPair> kept;
+      // Twice the inlier threshold: one object's motion carries another's points with both
+      // motions' errors (as the clique's length test allows twice the noise bound).
+      for (int i : MatchesThatMoveTogether(motions, 2 * config_.ransac.inlier_threshold_m)) {
+        kept.push_back(pairs[static_cast<size_t>(i)]);
+      }
+      result.rejected_object_matches += static_cast<int>(pairs.size() - kept.size());
+      pairs = std::move(kept);
     }
   }
   timer.Mark("object_match");

@@ -124,5 +124,19 @@ TEST(PointSupport, NegativeValueIsRefusedNamingTheKey) {
   }
 }
 
+TEST(PointSupport, MotionAgreementNeedsPointSupport) {
+  PipelineConfig c;
+  try {
+    ApplyConfigJson({{"object_match", {{"min_point_support", 0}, {"motion_agreement", true}}}},
+                    "f.json", &c);
+    FAIL() << "motion agreement without point support was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("object_match.motion_agreement needs "
+                                         "object_match.min_point_support above 0"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace zeroreg

@@ -1,0 +1,51 @@
+#include "object_match/motion_agreement.hpp"
+
+#include <numeric>
+
+#include "estimate/max_clique.hpp"
+
+namespace zeroreg {
+namespace {
+
+// Share of `m`'s inliers that motion T carries to within threshold_m of their partners.
+double ShareCarried(const Transform& T, const MatchMotion& m, double threshold_m) {
+  if (m.source.empty()) return 0.0;
+  int carried = 0;
+  for (size_t i = 0; i < m.source.size(); ++i) {
+    const Eigen::Vector3d moved = (T * m.source[i].homogeneous()).head<3>();
+    if ((moved - m.target[i]).norm() <= threshold_m) ++carried;
+  }
+  return static_cast<double>(carried) / static_cast<double>(m.source.size());
+}
+
+}  // namespace
+
+bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m) {
+  // A match without inliers has no motion of its own (fewer than three point matches).
+  if (a.source.empty() || b.source.empty()) return false;
+  return ShareCarried(a.T_target_source, b, threshold_m) >= 0.5 ||
+         ShareCarried(b.T_target_source, a, threshold_m) >= 0.5;
+}
+
+std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,
+                                         double threshold_m) {
+  const int n = static_cast<int>(motions.size());
+  std::vector<int> all(n);
+  std::iota(all.begin(), all.end(), 0);
+  if (n < 2) return all;
+  std::vector<std::vector<int>> agree(n);
+  for (int i = 0; i < n; ++i) {
+    for (int j = i + 1; j < n; ++j) {
+      if (MotionsAgree(motions[i], motions[j], threshold_m)) {
+        agree[i].push_back(j);
+        agree[j].push_back(i);
+      }
+    }
+  }
+  // A handful of matches: the exact search finishes in a few nodes.
+  const CliqueSearchResult largest = MaximumClique(agree, 1000000);
+  if (2 * static_cast<int>(largest.clique.size()) <= n) return all;  // no strict majority
+  return largest.clique;
+}
+
+}  // namespace zeroreg
