@@ -3,6 +3,7 @@
 #include <numeric>
 
 #include "estimate/max_clique.hpp"
+#include "estimate/rigid_ransac.hpp"
 
 namespace zeroreg {
 namespace {
@@ -23,8 +24,17 @@ double ShareCarried(const Transform& T, const MatchMotion& m, double threshold_m
 bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m) {
   // A match without inliers has no motion of its own (fewer than three point matches).
   if (a.source.empty() || b.source.empty()) return false;
-  return ShareCarried(a.T_target_source, b, threshold_m) >= 0.5 ||
-         ShareCarried(b.T_target_source, a, threshold_m) >= 0.5;
+  // One motion fitted to both matches' inliers: two objects far apart fix it far better than
+  // either alone (a lever arm of metres instead of centimetres), and if the two move together it
+  // explains both.
+  std::vector<Eigen::Vector3d> source = a.source, target = a.target;
+  source.insert(source.end(), b.source.begin(), b.source.end());
+  target.insert(target.end(), b.target.begin(), b.target.end());
+  std::vector<int> all(source.size());
+  std::iota(all.begin(), all.end(), 0);
+  Transform joint;
+  if (!FitRigidTransform(source, target, all, &joint)) return false;
+  return ShareCarried(joint, a, threshold_m) >= 0.5 && ShareCarried(joint, b, threshold_m) >= 0.5;
 }
 
 std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,

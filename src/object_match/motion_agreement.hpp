@@ -1,14 +1,13 @@
 // Do the matched objects move together? (issue 11; docs/MATCHING.md "Matches that move together")
 //
-// Each matched object pair with point support (object_match.min_point_support) comes with its own
-// rigid motion: the one that explains the most of the point matches between the two objects, and
-// those matches (its inliers). The whole scene moves rigidly between two scans, so two right
-// matches have one motion, even when an object is seen partly and its centroid moves (the
-// rigidity check, rigidity.hpp, compares centroids and cannot tell that case from a wrong match).
-// Two matches agree when one's motion carries at least half of the other's inliers to within the
-// inlier threshold (either way round: a small object's own motion may be poorly determined, a
-// large one's judges it). When a strict majority of the matches agree with each other, the others
-// are dropped; otherwise nothing is decided and every match stays.
+// Each matched object pair comes with its point support: the point matches between the two
+// objects that one rigid motion explains (its inliers). The whole scene moves rigidly between two
+// scans, so two right matches move together, even when an object is seen partly and its centroid
+// moves (the rigidity check, rigidity.hpp, compares centroids and cannot tell that case from a
+// wrong match). Two matches agree when one rigid motion fitted to both's inliers carries at least
+// half of each's inliers to within the threshold: fitted to two objects, the motion has a lever
+// arm of metres, where a cup's own motion has centimetres. When a strict majority of the matches
+// agree pairwise, the others are dropped; otherwise nothing is decided and every match stays.
 #pragma once
 
 #include <Eigen/Core>
@@ -18,13 +17,14 @@
 
 namespace zeroreg {
 
+// A matched object pair's point-support inliers: the correspondences its own rigid motion
+// explains (source and target points, parallel).
 struct MatchMotion {
-  Transform T_target_source = Transform::Identity();  // the match's own motion
-  std::vector<Eigen::Vector3d> source, target;        // its inlier correspondences
+  std::vector<Eigen::Vector3d> source, target;
 };
 
-// True when a's motion carries at least half of b's inliers within threshold_m, or b's a's;
-// false when either has no inliers (no motion of its own).
+// True when one rigid motion fitted to the inliers of both carries at least half of a's and half
+// of b's within threshold_m; false when either has no inliers (no motion of its own).
 bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m);
 
 // Indices (ascending) of the matches to keep: the largest set that agree pairwise, when it holds

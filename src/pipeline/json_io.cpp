@@ -424,12 +424,6 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
                          "\"" +
                              c.segmenter.backend + "\"");
   }
-  if (c.object_match.motion_agreement && c.object_match.min_point_support <= 0) {
-    throw MakeInputError(where,
-                         "object_match.motion_agreement needs object_match.min_point_support "
-                         "above 0 (each match's motion comes from its point support), but it is " +
-                             std::to_string(c.object_match.min_point_support));
-  }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +
                                     ") must be below lift.max_depth_m (" +

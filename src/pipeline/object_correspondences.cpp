@@ -98,7 +98,7 @@ std::vector<KeyedCorrespondence> MatchInsideObjects(const PerceivedScan& s, cons
 
 // The most of an object pair's point matches that one rigid motion explains: the clique
 // estimator's inliers (length consistency needs no transform guess, and it is deterministic).
-// Returns their number; `motion` gets the motion and those inliers.
+// Returns their number; `motion` gets those inliers.
 int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacConfig& ransac,
                  MatchMotion* motion) {
   if (matches.size() < 3) return static_cast<int>(matches.size());
@@ -110,7 +110,6 @@ int RigidSupport(const std::vector<KeyedCorrespondence>& matches, const RansacCo
     scores.push_back(m.correspondence.score);
   }
   const RansacResult fit = EstimateRigidClique(source, target, scores, ransac);
-  motion->T_target_source = fit.T_target_source;
   for (size_t i = 0; i < fit.is_inlier.size(); ++i) {
     if (!fit.is_inlier[i]) continue;
     motion->source.push_back(source[i]);
@@ -258,7 +257,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   struct PointSupport {
     std::vector<KeyedCorrespondence> matches;
     int support = -1;    // -1: not measured
-    MatchMotion motion;  // the motion that explains `support` of the matches, and those
+    MatchMotion motion;  // the `support` matches one rigid motion explains
   };
   std::map<std::pair<int, int>, PointSupport> candidates;  // (source, target) object
 
@@ -331,12 +330,16 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     }
     // Then the matches whose own motions disagree with the majority's (the scene moves as one).
     if (config_.object_match.motion_agreement) {
-      // Every pair Eq. 2 may choose had its support measured (the label filter is the same
-      // test), so each has a motion.
+      // Each match's motion comes with its point support: measured before Eq. 2 for every
+      // candidate when min_point_support is on, here for the chosen pairs otherwise.
       std::vector<MatchMotion> motions;
       for (const ObjectPair& pair : pairs) {
-        const auto found = candidates.find({pair.source, pair.target});
-        motions.push_back(found != candidates.end() ? found->second.motion : MatchMotion());
+        const auto [it, is_new] = candidates.try_emplace({pair.source, pair.target});
+        if (is_new) {
+          it->second.matches = match_inside(pair.source, pair.target);
+          it->second.support = RigidSupport(it->second.matches, config_.ransac, &it->second.motion);
+        }
+        motions.push_back(it->second.motion);
       }
       std::vector<ObjectPair> kept;
       // Twice the inlier threshold: one object's motion carries another's points with both
