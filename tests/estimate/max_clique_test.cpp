@@ -8,21 +8,14 @@
 
 #include "estimate/rigid_ransac.hpp"
 #include "eval/metrics.hpp"
+#include "rigid_motion.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
 namespace {
 
-Transform MakeTransform(double angle_rad, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
-  Transform T = Transform::Identity();
-  T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
-  T.topRightCorner<3, 1>() = t;
-  return T;
-}
-
-Eigen::Vector3d Apply(const Transform& T, const Eigen::Vector3d& p) {
-  return (T * p.homogeneous()).head<3>();
-}
+using testing::Apply;
+using testing::MakeTransform;
 
 // A room-sized scene: `inliers` correspondences of T with Gaussian noise (sigma metres per axis),
 // `cluster` correspondences consistent with a second rigid motion (a structured outlier set, as

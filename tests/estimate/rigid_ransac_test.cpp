@@ -5,21 +5,16 @@
 #include <random>
 
 #include "eval/metrics.hpp"
+#include "rigid_motion.hpp"
 
 namespace zeroreg {
 namespace {
 
-Transform MakeTransform(double angle_rad, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
-  Transform T = Transform::Identity();
-  T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
-  T.topRightCorner<3, 1>() = t;
-  return T;
-}
-
+using testing::MakeTransform;
 // Correspondences for a known transform: `inliers` exact matches with Gaussian noise, then
 // `outliers` random pairs, shuffled.
-void MakeCorrespondences(const Transform& T, int inliers, int outliers, double noise,
-                         unsigned seed, std::vector<Eigen::Vector3d>* source,
+void MakeCorrespondences(const Transform& T, int inliers, int outliers, double noise, unsigned seed,
+                         std::vector<Eigen::Vector3d>* source,
                          std::vector<Eigen::Vector3d>* target) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> box(-2.0, 2.0);

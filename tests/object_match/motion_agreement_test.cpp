@@ -5,22 +5,16 @@
 #include <Eigen/Geometry>
 #include <random>
 
+#include "rigid_motion.hpp"
+
 namespace zeroreg {
 namespace {
 
-Transform Motion(double angle, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
-  Transform T = Transform::Identity();
-  T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle, axis.normalized()).toRotationMatrix();
-  T.topRightCorner<3, 1>() = t;
-  return T;
-}
-
-Eigen::Vector3d Apply(const Transform& T, const Eigen::Vector3d& p) {
-  return (T * p.homogeneous()).head<3>();
-}
+using testing::Apply;
+using testing::MakeTransform;
 
 // The scene's true motion between the two scans.
-const Transform kScene = Motion(0.6, {0.1, 1, 0.2}, {0.5, -0.2, 0.9});
+const Transform kScene = MakeTransform(0.6, {0.1, 1, 0.2}, {0.5, -0.2, 0.9});
 
 // The inliers of an object of `n` surface points around `centre` (a `size` m cube), seen in both
 // scans under `truth`; `noise_m` on the target points.
@@ -46,7 +40,7 @@ MatchMotion Right(const Eigen::Vector3d& centre, unsigned seed) {
 // A wrong match (another object of the same class 1.2 m away): its points are consistent with
 // one rigid motion, but not the scene's.
 MatchMotion Wrong(const Eigen::Vector3d& centre, unsigned seed) {
-  const Transform off = Motion(0.0, {0, 0, 1}, {1.2, 0, 0}) * kScene;
+  const Transform off = MakeTransform(0.0, {0, 0, 1}, {1.2, 0, 0}) * kScene;
   return Object(centre, 0.5, 30, off, 0.01, seed);
 }
 
@@ -78,7 +72,7 @@ TEST(MotionAgreement, ASmallObjectIsJudgedTogetherWithALargeOne) {
   const MatchMotion table = Object({0, 0.4, 2.5}, 1.5, 200, kScene, 0.01, 8);
   EXPECT_TRUE(MotionsAgree(cup, table, 0.1));
   EXPECT_TRUE(MotionsAgree(table, cup, 0.1));
-  const Transform elsewhere = Motion(0.0, {0, 0, 1}, {0.6, 0, 0}) * kScene;
+  const Transform elsewhere = MakeTransform(0.0, {0, 0, 1}, {0.6, 0, 0}) * kScene;
   const MatchMotion other_cup = Object({0.3, 0.1, 2.2}, 0.08, 5, elsewhere, 0.005, 7);
   EXPECT_FALSE(MotionsAgree(other_cup, table, 0.1));
 }
