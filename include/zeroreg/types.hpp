@@ -86,7 +86,8 @@ struct ObjectMatchSummary {
   double node_similarity = 0.0;  // C = 1 + cos of the semantic features
   int num_correspondences = 0;   // point correspondences found inside the pair (§3.4)
   // Most of the point matches between the two objects that one rigid motion explains
-  // (object_match.min_point_support); -1 when not measured (the switch off). Counted before
+  // (object_match.min_point_support); -1 when not measured (point support
+  // and motion agreement both off). Counted before
   // overlapping masks are deduplicated, so it can exceed num_correspondences.
   int point_support = -1;
 };
@@ -154,7 +155,8 @@ struct RegistrationResult {
   std::vector<ObjectSummary> source_objects;
   std::vector<ObjectSummary> target_objects;
   std::vector<ObjectMatchSummary> object_matches;
-  // Matches of Eq. 2 that object_match.rigidity_tolerance_m removed (not in object_matches).
+  // Matches of Eq. 2 that object_match.rigidity_tolerance_m or object_match.motion_agreement
+  // removed (not in object_matches).
   int rejected_object_matches = 0;
   std::vector<StageTime> timings;
   // The geometric check of T_target_source; with verification on it decides `valid`.

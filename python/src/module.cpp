@@ -784,11 +784,13 @@ void BindResult(py::module_& m) {
           "Matched object pairs (paper §3.3, Eq. 2), each a dict: source and target (indices into "
           "source_objects / target_objects), node_similarity (C = 1 + cosine of the semantic "
           "features), num_correspondences (point correspondences found inside the pair), "
-          "point_support (the most of them one rigid motion explains; -1 unless "
-          "object_match.min_point_support is on).")
+          "point_support (the most of the point matches between the two objects that one rigid "
+          "motion explains; -1 when object_match.min_point_support is 0 and "
+          "object_match.motion_agreement is false).")
       .def_readonly("rejected_object_matches", &RegistrationResult::rejected_object_matches,
-                    "Matches of Eq. 2 that the rigidity check dropped "
-                    "(object_match.rigidity_tolerance_m); they are not in object_matches.")
+                    "Matches of Eq. 2 that the rigidity check (object_match.rigidity_tolerance_m) "
+                    "or the motion agreement (object_match.motion_agreement) dropped; they are not "
+                    "in object_matches.")
       .def_property_readonly(
           "timings",
           [](const RegistrationResult& r) {
