@@ -250,16 +250,26 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   const std::vector<SceneObject>& objects_s = s.objects.objects;
   const std::vector<SceneObject>& objects_t = t.objects.objects;
 
-  const auto match_inside = [&](int source_object, int target_object) {
-    return MatchInsideObjects(s, t, source_object, target_object, matcher_,
-                              config_.method.object_all_view_pairs);
-  };
   struct PointSupport {
     std::vector<KeyedCorrespondence> matches;
     int support = -1;    // -1: not measured
     MatchMotion motion;  // the `support` matches one rigid motion explains
   };
   std::map<std::pair<int, int>, PointSupport> candidates;  // (source, target) object
+  // An object pair's §3.4 matches, found once per pair; with_support also measures their point
+  // support (once).
+  const auto inside = [&](int source_object, int target_object,
+                          bool with_support) -> PointSupport& {
+    const auto [it, is_new] = candidates.try_emplace({source_object, target_object});
+    PointSupport& p = it->second;
+    if (is_new) {
+      p.matches = MatchInsideObjects(s, t, source_object, target_object, matcher_,
+                                     config_.method.object_all_view_pairs);
+    }
+    if (with_support && p.support < 0)
+      p.support = RigidSupport(p.matches, config_.ransac, &p.motion);
+    return p;
+  };
 
   // §3.3: scene graphs (Eq. 1), node similarity C, quadratic assignment (Eq. 2), label filter.
   timer.Restart();
@@ -297,10 +307,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       for (Eigen::Index j = 0; j < allowed.rows(); ++j) {
         for (Eigen::Index k = 0; k < allowed.cols(); ++k) {
           if (!allowed(j, k) || !labels_agree(j, k)) continue;
-          PointSupport& p = candidates[{static_cast<int>(j), static_cast<int>(k)}];
-          p.matches = match_inside(static_cast<int>(j), static_cast<int>(k));
-          p.support = RigidSupport(p.matches, config_.ransac, &p.motion);
-          allowed(j, k) = p.support >= config_.object_match.min_point_support;
+          allowed(j, k) = inside(static_cast<int>(j), static_cast<int>(k), true).support >=
+                          config_.object_match.min_point_support;
         }
       }
       timer.Mark("point_match");  // §3.4's matching, done here for every candidate pair
@@ -334,12 +342,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       // candidate when min_point_support is on, here for the chosen pairs otherwise.
       std::vector<MatchMotion> motions;
       for (const ObjectPair& pair : pairs) {
-        const auto [it, is_new] = candidates.try_emplace({pair.source, pair.target});
-        if (is_new) {
-          it->second.matches = match_inside(pair.source, pair.target);
-          it->second.support = RigidSupport(it->second.matches, config_.ransac, &it->second.motion);
-        }
-        motions.push_back(it->second.motion);
+        motions.push_back(inside(pair.source, pair.target, true).motion);
       }
       std::vector<ObjectPair> kept;
       // Twice the inlier threshold: one object's motion carries another's points with both
@@ -371,10 +374,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   std::set<std::tuple<int, int, int, int>> seen;  // (source view, row, target view, row)
   for (const ObjectPair& pair : pairs) {
     ObjectMatchSummary summary{pair.source, pair.target, pair.node_similarity, 0};
-    const auto cached = candidates.find({pair.source, pair.target});
-    PointSupport fresh;  // the pair was not a measured candidate
-    if (cached == candidates.end()) fresh.matches = match_inside(pair.source, pair.target);
-    const PointSupport& found = cached != candidates.end() ? cached->second : fresh;
+    const PointSupport& found = inside(pair.source, pair.target, false);
     summary.point_support = found.support;
     for (const KeyedCorrespondence& c : found.matches) {
       if (!seen.emplace(c.key).second) continue;
