@@ -10,6 +10,10 @@ Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shar
 - objects / view: objects of both scans over their views (frame pairs: one view per scan);
 - matches / pair: matched object pairs (after the label filter) per pair;
 - precision: matched pairs whose centroids agree within 0.3 m under the ground truth;
+- same surface: matched pairs whose visible surfaces coincide under the ground truth (at least a
+  fifth of either object's surface within 5 cm of the other's; src/eval/object_match_metrics.hpp),
+  over the records that carry it ("-" for runs made before it was recorded): a partly seen object
+  shifts its centroid, not its surface;
 - object path: share of pairs whose returned transform came from the object path;
 - rot@5 / trans@5 / success: RE < 5 deg, TE < 5 cm, and RE < 15 deg with TE < 30 cm;
 - valid-wrong: pairs the method called valid that are not a success;
@@ -39,18 +43,23 @@ def summarise(records):
     if n == 0:
         return None
     objects = views = matches = correct = 0
+    surface_matches = same_surface = 0
     for r in done:
         o = r.get("objects", {})
         objects += o.get("source", 0) + o.get("target", 0)
         views += o.get("views_source", 1) + o.get("views_target", 1)
         matches += o.get("matches", 0)
         correct += o.get("correct", 0)
+        if "same_surface" in o:
+            surface_matches += o.get("matches", 0)
+            same_surface += o["same_surface"]
     success = [r["rotation_error_deg"] < 15 and r["translation_error_m"] < 0.30 for r in done]
     return {
         "pairs": n,
         "objects_per_view": objects / views if views else 0.0,
         "matches_per_pair": matches / n,
         "precision": correct / matches if matches else None,
+        "same_surface": same_surface / surface_matches if surface_matches else None,
         "correct_per_pair": correct / n,
         "object_path": sum(r.get("path") == "object" for r in done) / n,
         "rot5": sum(r["rotation_error_deg"] < 5 for r in done) / n,
@@ -97,13 +106,13 @@ def main():
         sys.exit(f"object-table: no RESULTS/<setup>/<list>/pairs.jsonl under {args.results}")
     table.sort(key=lambda t: (t[0], t[1]))
     lines = ["| list | setup | pairs | objects / view | matches / pair | precision (%) | "
-             "correct / pair | object path (%) | rot@5 (%) | trans@5cm (%) | success (%) | "
+             "same surface (%) | correct / pair | object path (%) | rot@5 (%) | trans@5cm (%) | success (%) | "
              "valid-wrong | median (ms) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for lst, setup, s in table:
         lines.append(f"| {lst} | {setup} | {s['pairs']} | {s['objects_per_view']:.2f} | "
                      f"{s['matches_per_pair']:.2f} | {pct(s['precision'])} | "
-                     f"{s['correct_per_pair']:.2f} | {pct(s['object_path'])} | {pct(s['rot5'])} | "
+                     f"{pct(s['same_surface'])} | {s['correct_per_pair']:.2f} | {pct(s['object_path'])} | {pct(s['rot5'])} | "
                      f"{pct(s['trans5'])} | {pct(s['success'])} | {s['valid_wrong']} | "
                      f"{s['median_ms']:.0f} |")
     text = "\n".join(lines) + "\n"

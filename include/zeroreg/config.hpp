@@ -160,6 +160,14 @@ struct ObjectMatchConfig {
   // (0.04 fewer on the fragments), and raised precision on six frame lists by 1-4 points more.
   // false = off.
   bool motion_agreement = true;
+  // Once the result is valid, keep only the object matches that move with the returned transform:
+  // it carries at least half of a match's point-support inliers to within twice
+  // ransac.inlier_threshold_m (the motion agreement's test, with the verified transform as the
+  // majority). A match that does not is two different objects, whatever its label and support;
+  // it is dropped from the result's object_matches and counted in rejected_object_matches. The
+  // transform itself does not change. Invalid results keep every match (nothing to judge by), as
+  // do matches without measured support. false = off.
+  bool agree_with_result = true;
   // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
   // seeded random interior points) and Frank-Wolfe iterations per start.
   int restarts = 6;

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "eval/metrics.hpp"
+#include "eval/object_match_metrics.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
@@ -91,6 +92,11 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
   r.objects_target = static_cast<int>(output.target_object_centroids.size());
   r.views_source = output.views_source;
   r.views_target = output.views_target;
+  const bool surfaces =
+      output.source_object_surfaces.size() == output.source_object_centroids.size() &&
+      output.target_object_surfaces.size() == output.target_object_centroids.size() &&
+      !output.object_matches.empty();
+  if (surfaces) r.object_matches_same_surface = 0;
   for (const auto& [s, t] : output.object_matches) {
     if (s < 0 || t < 0 || s >= r.objects_source || t >= r.objects_target) continue;
     ++r.object_matches;
@@ -98,6 +104,10 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
         (T_gt * output.source_object_centroids[s].homogeneous()).head<3>();
     if ((moved - output.target_object_centroids[t]).norm() < kObjectMatchToleranceM) {
       ++r.object_matches_correct;
+    }
+    if (surfaces &&
+        SameSurface(output.source_object_surfaces[s], output.target_object_surfaces[t], T_gt)) {
+      ++r.object_matches_same_surface;
     }
   }
   return r;
@@ -144,6 +154,8 @@ json PairRecordToJson(const PairRecord& r) {
     j["objects"] = {{"source", r.objects_source},     {"target", r.objects_target},
                     {"views_source", r.views_source}, {"views_target", r.views_target},
                     {"matches", r.object_matches},    {"correct", r.object_matches_correct}};
+    if (r.object_matches_same_surface >= 0)
+      j["objects"]["same_surface"] = r.object_matches_same_surface;
   }
   if (r.recall_error) j["recall_error"] = *r.recall_error;
   if (!r.error.empty()) j["error"] = r.error;
@@ -184,6 +196,7 @@ PairRecord PairRecordFromJson(const json& j, const std::string& where) {
     r.views_target = Get<int>(o, "views_target", at);
     r.object_matches = Get<int>(o, "matches", at);
     r.object_matches_correct = Get<int>(o, "correct", at);
+    if (o.contains("same_surface")) r.object_matches_same_surface = Get<int>(o, "same_surface", at);
   }
   return r;
 }

@@ -70,6 +70,9 @@ struct PairRecord {
   // T_gt (CountCorrectObjectMatches).
   int objects_source = 0, objects_target = 0, views_source = 0, views_target = 0;
   int object_matches = 0, object_matches_correct = 0;
+  // Of the matched pairs, those whose visible surfaces coincide under T_gt (SameSurface,
+  // eval/object_match_metrics.hpp); -1 when the method gave no object surfaces.
+  int object_matches_same_surface = -1;
 };
 
 // Rounds every entry like WriteLogFile's "%15.8e" does.
@@ -86,7 +89,13 @@ struct MethodOutput {
   // zeroreg only: the object level's result (empty for other methods).
   std::vector<Eigen::Vector3d> source_object_centroids, target_object_centroids;
   std::vector<std::pair<int, int>> object_matches;  // (source row, target row)
+  // Per object, its visible surface in the scan frame (ObjectSurface), for the surface measure of
+  // the object matches; empty when not computed.
+  std::vector<std::vector<Eigen::Vector3d>> source_object_surfaces, target_object_surfaces;
   int views_source = 0, views_target = 0;
+  // Time the method spent making these evaluation-only outputs, not registering (excluded from
+  // the pair's time_ms).
+  double evaluation_ms = 0.0;
 };
 
 // Computes the per-pair metrics of DESIGN §6 for `output` against `T_gt`.

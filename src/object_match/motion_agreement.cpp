@@ -11,12 +11,8 @@ namespace {
 // Share of `m`'s inliers that motion T carries to within threshold_m of their partners.
 double ShareCarried(const Transform& T, const MatchMotion& m, double threshold_m) {
   if (m.source.empty()) return 0.0;
-  int carried = 0;
-  for (size_t i = 0; i < m.source.size(); ++i) {
-    const Eigen::Vector3d moved = (T * m.source[i].homogeneous()).head<3>();
-    if ((moved - m.target[i]).norm() <= threshold_m) ++carried;
-  }
-  return static_cast<double>(carried) / static_cast<double>(m.source.size());
+  return static_cast<double>(CountCarried(T, m, threshold_m)) /
+         static_cast<double>(m.source.size());
 }
 
 }  // namespace
@@ -35,6 +31,15 @@ bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m
   Transform joint;
   if (!FitRigidTransform(source, target, all, &joint)) return false;
   return ShareCarried(joint, a, threshold_m) >= 0.5 && ShareCarried(joint, b, threshold_m) >= 0.5;
+}
+
+int CountCarried(const Transform& T, const MatchMotion& points, double threshold_m) {
+  int carried = 0;
+  for (size_t i = 0; i < points.source.size(); ++i) {
+    const Eigen::Vector3d moved = (T * points.source[i].homogeneous()).head<3>();
+    if ((moved - points.target[i]).norm() <= threshold_m) ++carried;
+  }
+  return carried;
 }
 
 std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,

@@ -32,4 +32,7 @@ bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m
 std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,
                                          double threshold_m);
 
+// How many of the point pairs (source[i], target[i]) motion T carries to within threshold_m.
+int CountCarried(const Transform& T, const MatchMotion& points, double threshold_m);
+
 }  // namespace zeroreg

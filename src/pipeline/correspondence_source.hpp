@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "object_match/motion_agreement.hpp"
 #include "objects/scene_objects.hpp"
 #include "pipeline/image_correspondences.hpp"
 #include "pipeline/stage_timer.hpp"
@@ -34,6 +35,9 @@ struct CorrespondenceSet {
   std::vector<Correspondence> correspondences;
   std::string path;  // RegistrationResult::path; empty = the source's name()
   std::vector<ObjectMatchSummary> object_matches;
+  // Parallel to object_matches: each match's §3.4 point matches, before overlapping masks are
+  // deduplicated (empty for the centroid-only flow).
+  std::vector<MatchMotion> object_match_points;
   int rejected_object_matches = 0;  // RegistrationResult::rejected_object_matches
   // Set by sources that can fall back to whole-image matching when their own correspondences do
   // not give a valid registration; computes them on demand.

@@ -364,6 +364,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
                                         Eigen::Vector2f::Zero(), 0, 0,
                                         static_cast<float>(pair.node_similarity)});
       result.object_matches.push_back({pair.source, pair.target, pair.node_similarity, 1});
+      result.object_match_points.emplace_back();  // centroids only: no point matches
     }
     result.path = "object-centroids";
     return result;
@@ -376,12 +377,16 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     ObjectMatchSummary summary{pair.source, pair.target, pair.node_similarity, 0};
     const PointSupport& found = inside(pair.source, pair.target, false);
     summary.point_support = found.support;
+    MatchMotion points;
     for (const KeyedCorrespondence& c : found.matches) {
+      points.source.push_back(c.correspondence.source);
+      points.target.push_back(c.correspondence.target);
       if (!seen.emplace(c.key).second) continue;
       result.correspondences.push_back(c.correspondence);
       ++summary.num_correspondences;
     }
     result.object_matches.push_back(summary);
+    result.object_match_points.push_back(std::move(points));
   }
   result.path = "object";
   timer.Mark("point_match");

@@ -16,6 +16,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
+#include "object_match/motion_agreement.hpp"
 #include "parallel/run_both.hpp"
 #include "pipeline/hypotheses.hpp"
 #include "pipeline/image_source.hpp"
@@ -358,6 +359,24 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// object_match.agree_with_result: a valid result keeps the object matches that its transform
+// supports: it carries at least kSupportUnderResult of the match's point matches (`points`,
+// parallel to result->object_matches; all of them when it has fewer) to within threshold_m. The
+// others are counted as rejected.
+constexpr int kSupportUnderResult = 4;
+void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMotion>& points,
+                                   double threshold_m, RegistrationResult* result) {
+  if (points.size() != result->object_matches.size()) return;
+  std::vector<ObjectMatchSummary> kept;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const int needed = std::min(kSupportUnderResult, static_cast<int>(points[i].source.size()));
+    if (CountCarried(T, points[i], threshold_m) >= needed)
+      kept.push_back(result->object_matches[i]);
+  }
+  result->rejected_object_matches += static_cast<int>(result->object_matches.size() - kept.size());
+  result->object_matches = std::move(kept);
+}
+
 std::atomic<std::uint64_t> g_next_pipeline_id{1};
 
 }  // namespace
@@ -584,6 +603,10 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
+  }
+  if (config.object_match.agree_with_result && result.valid) {
+    KeepObjectMatchesThatMoveWith(result.T_target_source, found.object_match_points,
+                                  2 * config.ransac.inlier_threshold_m, &result);
   }
   return result;
 }

@@ -269,6 +269,43 @@ TEST(EvalRecords, JsonRoundTripIsExact) {
   EXPECT_THROW(PairRecordFromJson(nlohmann::json{{"key", "x"}}, "line 3"), InputError);
 }
 
+// The object measures of a record: matches, centroids within 0.3 m, and the surface measure only
+// when the method gave object surfaces (ScorePair), through JSON and back.
+TEST(EvalRecords, ObjectMatchMeasuresAreScoredAndRoundTrip) {
+  const Transform gt = Pose(10, 0.5, 0, 0);
+  const PairTask t = MatchTask("3DMatch", 3, 7, gt);
+  MethodOutput out = Output(gt, {});
+  // Two objects per scan, each a 0.2 m patch; matched 0-0 (right) and 1-1 (1 m off: wrong).
+  const auto patch = [](const Eigen::Vector3d& c) {
+    std::vector<Eigen::Vector3d> p;
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j) p.push_back(c + Eigen::Vector3d(0.02 * i, 0.02 * j, 0));
+    return p;
+  };
+  const Eigen::Vector3d a(0, 0, 2), b(1, 0, 2);
+  const auto move = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    return (gt * p.homogeneous()).head<3>();
+  };
+  out.source_object_centroids = {a, b};
+  out.target_object_centroids = {move(a), move(b) + Eigen::Vector3d(0, 1, 0)};
+  out.object_matches = {{0, 0}, {1, 1}};
+  PairRecord without = ScorePair(t, "zeroreg", out, gt, 1.0);
+  EXPECT_EQ(without.object_matches, 2);
+  EXPECT_EQ(without.object_matches_correct, 1);
+  EXPECT_EQ(without.object_matches_same_surface, -1);  // no surfaces given
+  EXPECT_FALSE(PairRecordToJson(without)["objects"].contains("same_surface"));
+  out.source_object_surfaces = {patch(a), patch(b)};
+  std::vector<Eigen::Vector3d> moved_a, moved_b;
+  for (const Eigen::Vector3d& p : patch(a)) moved_a.push_back(move(p));
+  for (const Eigen::Vector3d& p : patch(b)) moved_b.push_back(move(p) + Eigen::Vector3d(0, 1, 0));
+  out.target_object_surfaces = {moved_a, moved_b};
+  const PairRecord with = ScorePair(t, "zeroreg", out, gt, 1.0);
+  EXPECT_EQ(with.object_matches_same_surface, 1);
+  const PairRecord back = PairRecordFromJson(PairRecordToJson(with), "test");
+  EXPECT_EQ(back.object_matches_same_surface, 1);
+  EXPECT_EQ(PairRecordToJson(back), PairRecordToJson(with));
+}
+
 TEST(EvalRecords, EstLogIsWrittenInGtOrderAndScoresTheSameWhenReadBack) {
   const std::string dir = TempDir("estlog");
   const Transform gt1 = Pose(20, 0.3, 0.1, -0.2), gt2 = Pose(-40, 1.0, 0.5, 0.0);

@@ -98,5 +98,20 @@ TEST(MotionAgreement, AMatchWithoutInliersAgreesWithNone) {
   EXPECT_EQ(MatchesThatMoveTogether({a, none, b}, 0.1), (std::vector<int>{0, 2}));
 }
 
+TEST(MotionAgreement, CountCarriedCountsThePointPairsTheMotionBringsTogether) {
+  // 30 points of a right match follow the scene; the wrong match's are 1.2 m off under it.
+  const MatchMotion right = Right({0, 0, 2}, 4), wrong = Wrong({1, 0, 2}, 5);
+  EXPECT_EQ(CountCarried(kScene, right, 0.1), 30);
+  EXPECT_EQ(CountCarried(kScene, wrong, 0.1), 0);
+  EXPECT_EQ(CountCarried(Transform::Identity(), right, 0.1), 0);
+  // The threshold is inclusive and applies to each pair's own distance: one pair 5 cm off.
+  MatchMotion one;
+  one.source = {Eigen::Vector3d(0, 0, 2)};
+  one.target = {Apply(kScene, one.source[0]) + Eigen::Vector3d(0.05, 0, 0)};
+  EXPECT_EQ(CountCarried(kScene, one, 0.05 + 1e-12), 1);
+  EXPECT_EQ(CountCarried(kScene, one, 0.049), 0);
+  EXPECT_EQ(CountCarried(kScene, MatchMotion(), 0.1), 0);
+}
+
 }  // namespace
 }  // namespace zeroreg

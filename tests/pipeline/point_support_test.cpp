@@ -129,9 +129,13 @@ TEST(PointSupport, NegativeValueIsRefusedNamingTheKey) {
 // Real pairs where Eq. 2, with point support, still matches one wrong object (another chair, the
 // second sink) and the other matches agree on one motion that the wrong one does not follow.
 TEST(MotionAgreement, RealPairsDropTheMatchThatDoesNotMoveWithTheOthers) {
-  PipelineConfig off;
+  // The check against the returned transform (agree_with_result, agree_with_result_test.cpp) would
+  // drop the same wrong match after the fact: off here, to see the agreement alone.
+  PipelineConfig on;
+  on.object_match.agree_with_result = false;
+  PipelineConfig off = on;
   off.object_match.motion_agreement = false;
-  PipelineConfig without_support;  // the motions are measured for the chosen pairs then
+  PipelineConfig without_support = on;  // the motions are measured for the chosen pairs then
   without_support.object_match.min_point_support = 0;
   ASSERT_TRUE(PipelineConfig().object_match.motion_agreement);
   for (const auto& [source_id, target_id] : {std::pair{280, 220}, {700, 680}, {60, 40}}) {
@@ -139,7 +143,7 @@ TEST(MotionAgreement, RealPairsDropTheMatchThatDoesNotMoveWithTheOthers) {
     const Scan source = Frame(source_id), target = Frame(target_id);
     const Transform gt = GroundTruth(source, target);
     const RegistrationResult before = Register(source, target, off);
-    const RegistrationResult after = Register(source, target);
+    const RegistrationResult after = Register(source, target, on);
     int wrong_before = 0;
     for (const ObjectMatchSummary& m : before.object_matches) {
       wrong_before += !CentroidsAgree(before, m, gt);
