@@ -260,3 +260,21 @@ def test_depth_noise_is_measured_from_the_depth():
     noisy_view.pop("depth_scale", None)
     b = zeroreg.depth_noise_at_1m_m({"views": [noisy_view]})
     assert abs(b - np.hypot(0.01, a)) < 0.001
+
+
+def test_agree_with_result_only_filters_the_reported_matches():
+    # object_match.agree_with_result (default on) judges the object matches against the valid
+    # result's transform: on redkitchen 20 <- 80 it drops a wrong chair; the transform, verdict
+    # and path stay bit for bit, and the dropped matches are counted as rejected.
+    assert zeroreg.default_config()["object_match"]["agree_with_result"] is True
+    off = zeroreg.Pipeline({"object_match": {"agree_with_result": False}})
+    on = zeroreg.Pipeline({})
+    a = off.register(frame_spec(80), frame_spec(20))
+    b = on.register(frame_spec(80), frame_spec(20))
+    assert b.valid
+    np.testing.assert_array_equal(a.T_target_source, b.T_target_source)
+    assert (a.valid, a.path) == (b.valid, b.path)
+    kept = {(m["source"], m["target"]) for m in b.object_matches}
+    assert kept < {(m["source"], m["target"]) for m in a.object_matches}
+    dropped = len(a.object_matches) - len(b.object_matches)
+    assert b.rejected_object_matches == a.rejected_object_matches + dropped
