@@ -11,7 +11,7 @@ Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shar
 - matches / pair: matched object pairs (after the label filter) per pair;
 - precision: matched pairs whose centroids agree within 0.3 m under the ground truth;
 - same surface: matched pairs whose visible surfaces coincide under the ground truth (at least a
-  fifth of either object's surface within 5 cm of the other's; src/eval/object_match_metrics.hpp),
+  fifth of either object's 3D points within 5 cm of the other's; src/eval/object_match_metrics.hpp),
   over the records that carry it ("-" for runs made before it was recorded): a partly seen object
   shifts its centroid, not its surface;
 - object path: share of pairs whose returned transform came from the object path;

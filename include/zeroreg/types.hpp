@@ -75,7 +75,10 @@ struct ObjectSummary {
   std::string label;
   float score = 0.0f;                                  // best detection score
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // scan frame, metres
-  int num_points = 0;
+  int num_points = 0;                                  // points.size()
+  // The object's surface: its masks' depth pixels lifted into the scan frame (metres), one per
+  // objects.point_voxel_m voxel (2 cm). Not written to the JSON result (the counts are).
+  std::vector<Eigen::Vector3d> points;
   std::vector<ObjectView> views;
 };
 

@@ -607,6 +607,7 @@ py::dict ObjectToPython(const ObjectSummary& o) {
   d["score"] = o.score;
   d["centroid"] = PointsToNumpy({o.centroid}).attr("reshape")(3);
   d["num_points"] = o.num_points;
+  d["points"] = PointsToNumpy(o.points);
   d["views"] = views;
   return d;
 }

@@ -8,7 +8,6 @@
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/utility/Random.h>
 
-#include <chrono>
 #include <exception>
 #include <future>
 #include <mutex>
@@ -19,7 +18,6 @@
 
 #include "estimate/lift.hpp"
 #include "estimate/rigid_ransac.hpp"
-#include "eval/object_match_metrics.hpp"
 #include "eval/prepared_cache.hpp"
 #include "features/fpfh.hpp"
 #include "zeroreg/error.hpp"
@@ -55,7 +53,8 @@ class ZeroregMethod : public PairMethod {
       : shared_(std::move(shared)), require_image_path_(require_image_path) {}
 
   MethodOutput Run(const Scan& source, const Scan& target) override {
-    return Output(shared_->pipeline.Register(source, target), source, target);
+    return Output(shared_->pipeline.Register(source, target), source.views.size(),
+                  target.views.size());
   }
 
   MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
@@ -83,11 +82,12 @@ class ZeroregMethod : public PairMethod {
       source = prepared(source_ref);
       target = prepared(target_ref);
     }
-    return Output(shared_->pipeline.Register(source, target), source.scan(), target.scan());
+    return Output(shared_->pipeline.Register(source, target), source.scan().views.size(),
+                  target.scan().views.size());
   }
 
  private:
-  MethodOutput Output(RegistrationResult r, const Scan& source, const Scan& target) const {
+  MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target) const {
     if (require_image_path_ && r.path != "image") {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
       throw std::logic_error("--method image: the pipeline used the '" + r.path +
@@ -106,19 +106,11 @@ class ZeroregMethod : public PairMethod {
       out.target_object_centroids.push_back(o.centroid);
     for (const ObjectMatchSummary& m : r.object_matches)
       out.object_matches.push_back({m.source, m.target});
-    out.views_source = static_cast<int>(source.views.size());
-    out.views_target = static_cast<int>(target.views.size());
-    // The objects' surfaces, for the surface measure of the matches (not part of registering).
-    if (!r.object_matches.empty()) {
-      const auto start = std::chrono::steady_clock::now();
-      for (const ObjectSummary& o : r.source_objects)
-        out.source_object_surfaces.push_back(ObjectSurface(source, o));
-      for (const ObjectSummary& o : r.target_objects)
-        out.target_object_surfaces.push_back(ObjectSurface(target, o));
-      out.evaluation_ms =
-          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-              .count();
-    }
+    // The objects' surfaces, for the surface measure of the matches.
+    for (const ObjectSummary& o : r.source_objects) out.source_object_surfaces.push_back(o.points);
+    for (const ObjectSummary& o : r.target_objects) out.target_object_surfaces.push_back(o.points);
+    out.views_source = static_cast<int>(views_source);
+    out.views_target = static_cast<int>(views_target);
     return out;
   }
 

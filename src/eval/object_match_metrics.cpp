@@ -1,8 +1,5 @@
 #include "eval/object_match_metrics.hpp"
 
-#include <opencv2/imgproc.hpp>
-
-#include "estimate/lift.hpp"
 #include "estimate/point_kd_tree.hpp"
 
 namespace zeroreg {
@@ -33,29 +30,6 @@ ObjectMatchStats CountCorrectObjectMatches(const RegistrationResult& result,
     if ((moved - result.target_objects[m.target].centroid).norm() < threshold_m) ++stats.correct;
   }
   return stats;
-}
-
-std::vector<Eigen::Vector3d> ObjectSurface(const Scan& scan, const ObjectSummary& object) {
-  std::vector<Eigen::Vector3d> surface;
-  for (const ObjectView& v : object.views) {
-    if (v.view < 0 || v.view >= static_cast<int>(scan.views.size()) || v.outline.size() < 3)
-      continue;
-    const View& view = scan.views[static_cast<size_t>(v.view)];
-    if (view.depth.empty()) continue;
-    cv::Mat1b mask = cv::Mat1b::zeros(view.depth.size());
-    cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{v.outline}, cv::Scalar(255));
-    const int stride = PixelGrid{}.StrideFor(view.depth.cols);
-    const Intrinsics& K = view.intrinsics;
-    for (int y = 0; y < mask.rows; y += stride) {
-      for (int x = 0; x < mask.cols; x += stride) {
-        const float z = view.depth.at<float>(y, x);
-        if (!mask(y, x) || !(z > 0.0f)) continue;
-        const Eigen::Vector3d camera((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z);
-        surface.push_back((view.T_scan_camera * camera.homogeneous()).head<3>());
-      }
-    }
-  }
-  return surface;
 }
 
 bool SameSurface(const std::vector<Eigen::Vector3d>& source_surface,

@@ -6,8 +6,9 @@
 //   the other side, moves its centroid by decimetres; a large one (a kitchen counter) by more
 //   than 0.3 m, so a right match of it can count as wrong.
 // - surfaces: the two objects are the same physical object when enough of one's visible surface
-//   lies on the other's under the true transform. This does not depend on how much of each was
-//   seen, so it tells "a second chair" (no shared surface) from "the same counter, other end".
+//   (the object's own 3D points) lies on the other's under the true transform. This does not depend
+//   on how much of each was seen, so it tells "a second chair" (no shared surface) from "the same
+//   counter, other end".
 #pragma once
 
 #include <vector>
@@ -27,17 +28,12 @@ ObjectMatchStats CountCorrectObjectMatches(const RegistrationResult& result,
                                            const Transform& T_target_source_gt,
                                            double threshold_m = 0.3);
 
-// The visible surface of a reported object: the pixels inside its mask outline in each of its
-// views (ObjectView::outline, the mask's largest contour) on the scan's pixel grid (PixelGrid,
-// every 4th pixel at 640 px), lifted with the view's depth into the scan frame. Views outside the
-// scan or without depth inside the outline add nothing.
-std::vector<Eigen::Vector3d> ObjectSurface(const Scan& scan, const ObjectSummary& object);
-
-// Surface test: at least `min_share` of either object's surface points, moved into the target
-// frame by T_target_source, lie within radius_m of the other object's surface. Defaults: 5 cm
-// (about twice a structured-light sensor's depth noise at 3 m plus the pixel grid's spacing
-// there) and a fifth of a surface (two views of one object share at least that much of what each
-// sees on the pairs we looked at; two different objects share none).
+// Surface test on two objects' surface points (ObjectSummary::points: their masks' depth pixels,
+// one per 2 cm voxel): at least `min_share` of either object's points, the source's moved into
+// the target frame by T_target_source, lie within radius_m of the other object's points.
+// Defaults: 5 cm (the 2 cm voxel spacing plus a structured-light sensor's depth noise at 3 m)
+// and a fifth of a surface (two views of one object share at least that much of what each sees;
+// two different objects share none unless their masks overlap).
 struct SameSurfaceTest {
   double radius_m = 0.05;
   double min_share = 0.2;

@@ -89,13 +89,10 @@ struct MethodOutput {
   // zeroreg only: the object level's result (empty for other methods).
   std::vector<Eigen::Vector3d> source_object_centroids, target_object_centroids;
   std::vector<std::pair<int, int>> object_matches;  // (source row, target row)
-  // Per object, its visible surface in the scan frame (ObjectSurface), for the surface measure of
-  // the object matches; empty when not computed.
+  // Per object, its surface points in the scan frame (ObjectSummary::points), for the surface
+  // measure of the object matches; empty when the method has none.
   std::vector<std::vector<Eigen::Vector3d>> source_object_surfaces, target_object_surfaces;
   int views_source = 0, views_target = 0;
-  // Time the method spent making these evaluation-only outputs, not registering (excluded from
-  // the pair's time_ms).
-  double evaluation_ms = 0.0;
 };
 
 // Computes the per-pair metrics of DESIGN §6 for `output` against `T_gt`.

@@ -146,7 +146,7 @@ PairRecord EvaluateOne(const PairTask& task, const std::string& method, PairMeth
   const MethodOutput output = instance.RunRefs(task.source_ref, task.target_ref, load);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
-      load_ms - output.evaluation_ms;
+      load_ms;
   return ScorePair(task, method, output, T_gt, ms);
 }
 

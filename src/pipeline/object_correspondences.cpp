@@ -51,6 +51,7 @@ std::vector<ObjectSummary> Summarise(const SceneObjects& scene) {
     s.score = object.score;
     s.centroid = object.centroid;
     s.num_points = static_cast<int>(object.points.size());
+    s.points = object.points;
     for (int i : object.observations) {
       const ObjectObservation& o = scene.observations[i];
       s.views.push_back({o.view, o.detection.box, o.detection.score, LargestOutline(o.mask)});
