@@ -160,13 +160,15 @@ struct ObjectMatchConfig {
   // (0.04 fewer on the fragments), and raised precision on six frame lists by 1-4 points more.
   // false = off.
   bool motion_agreement = true;
-  // Once the result is valid, keep only the object matches that move with the returned transform:
-  // it carries at least half of a match's point-support inliers to within twice
-  // ransac.inlier_threshold_m (the motion agreement's test, with the verified transform as the
-  // majority). A match that does not is two different objects, whatever its label and support;
-  // it is dropped from the result's object_matches and counted in rejected_object_matches. The
+  // Once the result is valid, keep only the object matches the returned transform supports: it
+  // brings at least 4 of the match's point matches together (within twice
+  // ransac.inlier_threshold_m), or under it the two objects' surfaces coincide (a fifth of either's
+  // 3D points within ransac.inlier_threshold_m of the other's; src/object_match/surface_overlap.hpp).
+  // A match that does neither is two different objects, whatever its label and support; it is
+  // dropped from the result's object_matches and counted in rejected_object_matches. The
   // transform itself does not change. Invalid results keep every match (nothing to judge by), as
-  // do matches without measured support. false = off.
+  // does the centroid-only flow (method.point_level = false). false = off (docs/MATCHING.md
+  // "Matches the result supports").
   bool agree_with_result = true;
   // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
   // seeded random interior points) and Frank-Wolfe iterations per start.

@@ -1,23 +1,8 @@
 #include "eval/object_match_metrics.hpp"
 
-#include "estimate/point_kd_tree.hpp"
+#include "object_match/surface_overlap.hpp"
 
 namespace zeroreg {
-namespace {
-
-// Share of `points` within radius_m of some point of `tree`.
-double ShareNear(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree,
-                 double radius_m) {
-  if (points.empty() || tree.size() == 0) return 0.0;
-  int near = 0;
-  double distance_sq = 0.0;
-  for (const Eigen::Vector3d& p : points) {
-    if (tree.Nearest(p, radius_m * radius_m, &distance_sq) >= 0) ++near;
-  }
-  return static_cast<double>(near) / static_cast<double>(points.size());
-}
-
-}  // namespace
 
 ObjectMatchStats CountCorrectObjectMatches(const RegistrationResult& result,
                                            const Transform& T_target_source_gt,
@@ -35,14 +20,8 @@ ObjectMatchStats CountCorrectObjectMatches(const RegistrationResult& result,
 bool SameSurface(const std::vector<Eigen::Vector3d>& source_surface,
                  const std::vector<Eigen::Vector3d>& target_surface,
                  const Transform& T_target_source, const SameSurfaceTest& test) {
-  if (source_surface.empty() || target_surface.empty()) return false;
-  std::vector<Eigen::Vector3d> moved_source;
-  moved_source.reserve(source_surface.size());
-  for (const Eigen::Vector3d& p : source_surface)
-    moved_source.push_back((T_target_source * p.homogeneous()).head<3>());
-  const PointKdTree source_tree(moved_source), target_tree(target_surface);
-  return ShareNear(moved_source, target_tree, test.radius_m) >= test.min_share ||
-         ShareNear(target_surface, source_tree, test.radius_m) >= test.min_share;
+  return SurfacesCoincide(source_surface, target_surface, T_target_source, test.radius_m,
+                          test.min_share);
 }
 
 }  // namespace zeroreg

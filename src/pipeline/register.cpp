@@ -17,6 +17,7 @@
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
 #include "object_match/motion_agreement.hpp"
+#include "object_match/surface_overlap.hpp"
 #include "parallel/run_both.hpp"
 #include "pipeline/hypotheses.hpp"
 #include "pipeline/image_source.hpp"
@@ -359,19 +360,26 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// object_match.agree_with_result: a valid result keeps the object matches that its transform
-// supports: it carries at least kSupportUnderResult of the match's point matches (`points`,
-// parallel to result->object_matches; all of them when it has fewer) to within threshold_m. The
-// others are counted as rejected.
+// object_match.agree_with_result: a valid result keeps the object matches that its transform T
+// supports. A match is kept when T brings at least kSupportUnderResult of its point matches
+// (`points`, parallel to result->object_matches; all of them when it has fewer) to within
+// 2 * threshold_m of their partners, or when under T the two objects' surfaces coincide (a fifth
+// of either's points within threshold_m of the other's: a right object whose own point matches
+// are wrong, e.g. a cup seen from two sides). The others are counted as rejected.
 constexpr int kSupportUnderResult = 4;
+constexpr double kSharedSurface = 0.2;
 void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMotion>& points,
                                    double threshold_m, RegistrationResult* result) {
   if (points.size() != result->object_matches.size()) return;
   std::vector<ObjectMatchSummary> kept;
   for (size_t i = 0; i < points.size(); ++i) {
+    const ObjectMatchSummary& m = result->object_matches[i];
     const int needed = std::min(kSupportUnderResult, static_cast<int>(points[i].source.size()));
-    if (CountCarried(T, points[i], threshold_m) >= needed)
-      kept.push_back(result->object_matches[i]);
+    if (CountCarried(T, points[i], 2 * threshold_m) >= needed ||
+        SurfacesCoincide(result->source_objects[m.source].points,
+                         result->target_objects[m.target].points, T, threshold_m, kSharedSurface)) {
+      kept.push_back(m);
+    }
   }
   result->rejected_object_matches += static_cast<int>(result->object_matches.size() - kept.size());
   result->object_matches = std::move(kept);
@@ -606,7 +614,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   }
   if (config.object_match.agree_with_result && result.valid) {
     KeepObjectMatchesThatMoveWith(result.T_target_source, found.object_match_points,
-                                  2 * config.ransac.inlier_threshold_m, &result);
+                                  config.ransac.inlier_threshold_m, &result);
   }
   return result;
 }
