@@ -106,9 +106,11 @@ class ZeroregMethod : public PairMethod {
       out.target_object_centroids.push_back(o.centroid);
     for (const ObjectMatchSummary& m : r.object_matches)
       out.object_matches.push_back({m.source, m.target});
-    // The objects' surfaces, for the surface measure of the matches.
-    for (const ObjectSummary& o : r.source_objects) out.source_object_surfaces.push_back(o.points);
-    for (const ObjectSummary& o : r.target_objects) out.target_object_surfaces.push_back(o.points);
+    // The objects' surfaces, for the surface measure of the matches (moved: `r` is ours).
+    for (ObjectSummary& o : r.source_objects)
+      out.source_object_surfaces.push_back(std::move(o.points));
+    for (ObjectSummary& o : r.target_objects)
+      out.target_object_surfaces.push_back(std::move(o.points));
     out.views_source = static_cast<int>(views_source);
     out.views_target = static_cast<int>(views_target);
     return out;

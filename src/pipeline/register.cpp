@@ -16,8 +16,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
-#include "object_match/motion_agreement.hpp"
-#include "object_match/surface_overlap.hpp"
+#include "object_match/result_support.hpp"
 #include "parallel/run_both.hpp"
 #include "pipeline/hypotheses.hpp"
 #include "pipeline/image_source.hpp"
@@ -360,24 +359,17 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-// object_match.agree_with_result: a valid result keeps the object matches that its transform T
-// supports. A match is kept when T brings at least kSupportUnderResult of its point matches
-// (`points`, parallel to result->object_matches; all of them when it has fewer) to within
-// 2 * threshold_m of their partners, or when under T the two objects' surfaces coincide (a fifth
-// of either's points within threshold_m of the other's: a right object whose own point matches
-// are wrong, e.g. a cup seen from two sides). The others are counted as rejected.
-constexpr int kSupportUnderResult = 4;
-constexpr double kSharedSurface = 0.2;
+// object_match.agree_with_result: a valid result keeps the object matches its transform T
+// supports (TransformSupportsMatch; `points` are the matches' point matches, parallel to
+// result->object_matches); the others are counted as rejected.
 void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMotion>& points,
                                    double threshold_m, RegistrationResult* result) {
   if (points.size() != result->object_matches.size()) return;
   std::vector<ObjectMatchSummary> kept;
   for (size_t i = 0; i < points.size(); ++i) {
     const ObjectMatchSummary& m = result->object_matches[i];
-    const int needed = std::min(kSupportUnderResult, static_cast<int>(points[i].source.size()));
-    if (CountCarried(T, points[i], 2 * threshold_m) >= needed ||
-        SurfacesCoincide(result->source_objects[m.source].points,
-                         result->target_objects[m.target].points, T, threshold_m, kSharedSurface)) {
+    if (TransformSupportsMatch(T, points[i], result->source_objects[m.source].points,
+                               result->target_objects[m.target].points, threshold_m)) {
       kept.push_back(m);
     }
   }
