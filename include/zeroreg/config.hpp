@@ -163,12 +163,12 @@ struct ObjectMatchConfig {
   // Once the result is valid, keep only the object matches the returned transform supports: it
   // brings at least 4 of the match's point matches together (within twice
   // ransac.inlier_threshold_m), or under it the two objects' surfaces coincide (a fifth of either's
-  // 3D points within ransac.inlier_threshold_m of the other's; src/object_match/surface_overlap.hpp).
-  // A match that does neither is two different objects, whatever its label and support; it is
-  // dropped from the result's object_matches and counted in rejected_object_matches. The
-  // transform itself does not change. Invalid results keep every match (nothing to judge by), as
-  // does the centroid-only flow (method.point_level = false). false = off (docs/MATCHING.md
-  // "Matches the result supports").
+  // 3D points within ransac.inlier_threshold_m of the other's;
+  // src/object_match/surface_overlap.hpp). A match that does neither is two different objects,
+  // whatever its label and support; it is dropped from the result's object_matches and counted in
+  // rejected_object_matches. The transform itself does not change. Invalid results keep every match
+  // (nothing to judge by), as does the centroid-only flow (method.point_level = false). false = off
+  // (docs/MATCHING.md "Matches the result supports").
   bool agree_with_result = true;
   // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
   // seeded random interior points) and Frank-Wolfe iterations per start.
@@ -582,6 +582,15 @@ struct HypothesesConfig {
   // correspondences, and these sources' correspondences are mostly wrong by construction (a
   // HoloLens wall pair was "fixed" by 14 of 1109 FPFH matches, 180 deg off; hololens-cross 48-284).
   bool refuse_degenerate = true;
+  // true: ICP's refinement of an extra source's estimate must keep that estimate's evidence
+  // (refine.min_kept_inlier_fraction of its inliers within max(refine.max_distance_coarse_m, the
+  // source's inlier distance) of the refined transform) even when the check refused the
+  // estimate. The method's own estimate is exempt there, because its image correspondences can sit
+  // on repeated structure ICP leaves behind for the truth (redkitchen-cross 471-866); an extra
+  // source has no other evidence, and ICP from a wrong object-centroid estimate travelled 1.2-1.4
+  // m, 29-43 deg into a wrong pose the check accepted (hololens-cross 49-368 and 50-369 with both
+  // detectors on every view, detector.ensemble_below = 0).
+  bool refine_keeps_evidence = true;
   // true: a valid estimate of the object path is also checked against the whole-image one
   // (estimated, verified and refined as the fallback's would be). If that one is valid too,
   // disagrees with it (RMS displacement of the two results' correspondence points above

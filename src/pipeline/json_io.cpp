@@ -238,6 +238,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());
   v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(0));
   v("refuse_degenerate", c.refuse_degenerate);
+  v("refine_keeps_evidence", c.refine_keeps_evidence);
   v("image_rival", c.image_rival);
   v("image_rival_degenerate", c.image_rival_degenerate);
   v("image_rival_rescued", c.image_rival_rescued);
