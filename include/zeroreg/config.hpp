@@ -582,14 +582,14 @@ struct HypothesesConfig {
   // correspondences, and these sources' correspondences are mostly wrong by construction (a
   // HoloLens wall pair was "fixed" by 14 of 1109 FPFH matches, 180 deg off; hololens-cross 48-284).
   bool refuse_degenerate = true;
-  // true: ICP's refinement of an extra source's estimate must keep that estimate's evidence
-  // (refine.min_kept_inlier_fraction of its inliers within max(refine.max_distance_coarse_m, the
-  // source's inlier distance) of the refined transform) even when the check refused the
-  // estimate. The method's own estimate is exempt there, because its image correspondences can sit
-  // on repeated structure ICP leaves behind for the truth (redkitchen-cross 471-866); an extra
-  // source has no other evidence, and ICP from a wrong object-centroid estimate travelled 1.2-1.4
-  // m, 29-43 deg into a wrong pose the check accepted (hololens-cross 49-368 and 50-369 with both
-  // detectors on every view, detector.ensemble_below = 0).
+  // true: ICP's refinement of the object centroids' estimate (d) must keep that estimate's
+  // evidence (refine.min_kept_inlier_fraction of its inliers, and at least 4, within its 0.3 m
+  // inlier distance of the refined transform) even when the check refused the estimate. The
+  // point sources are exempt there, as the method's estimate is (refine: their refused estimates
+  // are often a few degrees off on repeated structure and ICP reaches the truth, redkitchen-cross
+  // 471-866, cabinet-gap3 0-3); a few centroids pin no surface, and ICP from a wrong centroid
+  // estimate travelled 1.2-1.4 m, 29-43 deg into a wrong pose the check accepted (hololens-cross
+  // 49-368 and 50-369 with both detectors on every view, detector.ensemble_below = 0).
   bool refine_keeps_evidence = true;
   // true: a valid estimate of the object path is also checked against the whole-image one
   // (estimated, verified and refined as the fallback's would be). If that one is valid too,

@@ -203,15 +203,17 @@ std::vector<Correspondence> ObjectPairCorrespondences(const RegistrationResult& 
 }
 
 void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineConfig& config,
-                         const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
+                         const HypothesisInputs& inputs, const JudgeFn& judge,
+                         const JudgeFn& judge_object_pairs, StageTimer& timer,
                          RegistrationResult* result) {
   const HypothesesConfig& h = config.hypotheses;
   const PipelineConfig extra = ExtraSourceConfig(config);
   std::vector<RegistrationResult> tried;
   // Every extra source's result passes through here (HypothesesConfig::refuse_degenerate).
   auto judge_extra = [&](const std::string& path, std::vector<Correspondence> correspondences,
-                         const PipelineConfig& effective) {
-    RegistrationResult r = judge(path, std::move(correspondences), effective);
+                         const PipelineConfig& effective, const JudgeFn& judge_with = nullptr) {
+    RegistrationResult r =
+        (judge_with ? judge_with : judge)(path, std::move(correspondences), effective);
     if (h.refuse_degenerate && r.valid && r.verification.degenerate) {
       r.valid = false;
       r.reason +=
@@ -249,7 +251,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
       PipelineConfig objects = extra;
       objects.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
       objects.ransac.min_inliers = 3;
-      tried.push_back(judge_extra("object-pairs " + h.estimator, std::move(pairs), objects));
+      tried.push_back(judge_extra("object-pairs " + h.estimator, std::move(pairs), objects,
+                                  judge_object_pairs));
       timer.Mark("hypothesis object-pairs");
     }
   }

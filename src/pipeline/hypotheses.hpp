@@ -48,13 +48,16 @@ struct HypothesisInputs {
 // result not valid unless hypotheses.always).
 bool WantMoreHypotheses(const PipelineConfig& config, const RegistrationResult& result);
 
-// Runs the enabled sources, judges each with `judge`, and replaces *result by the best valid one
-// (a valid result beats an invalid one, then the higher verification score wins; ties keep
-// *result); an invalid hypothesis never replaces *result. The
-// candidates of every source are appended to result->candidates; the winner's reason says which
-// sources it beat and their scores. Each source's time is added to `timer` as "hypothesis <name>".
+// Runs the enabled sources, judges each with `judge` (the object centroids with
+// `judge_object_pairs`, whose refinement must keep their evidence:
+// hypotheses.refine_keeps_evidence), and replaces *result by the best valid one (a valid result
+// beats an invalid one, then the higher verification score wins; ties keep *result); an invalid
+// hypothesis never replaces *result. The candidates of every source are appended to
+// result->candidates; the winner's reason says which sources it beat and their scores. Each
+// source's time is added to `timer` as "hypothesis <name>".
 void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineConfig& config,
-                         const HypothesisInputs& inputs, const JudgeFn& judge, StageTimer& timer,
+                         const HypothesisInputs& inputs, const JudgeFn& judge,
+                         const JudgeFn& judge_object_pairs, StageTimer& timer,
                          RegistrationResult* result);
 
 // hypotheses.image_rival: when *result is a valid object-path estimate, judges the whole-image

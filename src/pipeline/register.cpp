@@ -218,10 +218,10 @@ void ApplyVerification(const Prepared& source, const Prepared& target, const Pip
 // of both scans' geometry, so where it slides (along a plane, pulled by surface one scan sees
 // alone) the scans agree less or the image evidence is left behind, and the estimate stays. Without
 // verification ICP is kept.
-// `extra_source`: *r is an extra hypothesis source's estimate, whose refinement keeps its
+// `centroid_estimate`: *r is the object centroids' hypothesis, whose refinement keeps its
 // evidence whether or not the check accepted it (hypotheses.refine_keeps_evidence).
 void Refine(const Prepared& source, const Prepared& target, const PipelineConfig& pipeline,
-            RegistrationResult* r, bool extra_source = false) {
+            RegistrationResult* r, bool centroid_estimate = false) {
   const RefineConfig& config = pipeline.refine;
   IcpAnchors anchors;
   for (size_t i = 0; i < r->correspondences.size(); ++i) {
@@ -267,22 +267,22 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
     // check alone, as any other hypothesis is; except where the check finds the geometry
     // degenerate: there it cannot judge alone (a HoloLens wall lets ICP slide a metre and still
     // pass, hololens-gap5 165-170), as for the extra sources (hypotheses.refuse_degenerate).
-    // An extra source has no evidence but its own correspondences, so its refinement keeps them
-    // always (hypotheses.refine_keeps_evidence): from a wrong object-centroid estimate the check
-    // refused, ICP travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross
-    // 49-368, 50-369, both detectors on every view). An inlier counted at a wider distance than
-    // the gate (object centroids, 0.3 m) is kept within that distance.
-    const bool evidence_needed = r->verification.passed || refined.verification.degenerate ||
-                                 (extra_source && pipeline.hypotheses.refine_keeps_evidence);
+    // Not so for an estimate from object centroids (hypotheses.refine_keeps_evidence): a few
+    // centroids 0.3 m apart pin no surface, so ICP from their refused estimate starts blind; it
+    // travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross 49-368, 50-369,
+    // both detectors on every view). Its refinement keeps its evidence always, each inlier within
+    // the distance it was counted at (0.3 m, wider than the gate).
+    const bool keep_centroids = centroid_estimate && pipeline.hypotheses.refine_keeps_evidence;
+    const bool evidence_needed =
+        r->verification.passed || refined.verification.degenerate || keep_centroids;
     const double gate_m =
         std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m);
     const int kept = CountWithin(*r, icp.T_target_source, gate_m);
     // Three correspondences agree with some motion whenever their pairwise distances do, which
     // three object centroids at 0.3 m often do (hololens-cross 50-369: 3 of 20 kept, 43 deg off):
-    // an extra source's refinement keeps at least four.
+    // a centroid estimate's refinement keeps at least four.
     const double kept_needed =
-        std::max(config.min_kept_inlier_fraction * r->num_inliers,
-                 extra_source && pipeline.hypotheses.refine_keeps_evidence ? 4.0 : 0.0);
+        std::max(config.min_kept_inlier_fraction * r->num_inliers, keep_centroids ? 4.0 : 0.0);
     if (evidence_needed && kept < kept_needed) {
       std::snprintf(note, sizeof(note),
                     "; ICP refinement rejected: only %d of the %d correspondences that support "
@@ -599,16 +599,16 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     Refine(source, target, effective, &result);
     timer.Mark("refine");
   }
-  // Estimates, checks and refines one source's correspondences; `extra_source` for the extra
-  // hypothesis sources, whose refinement must keep their evidence.
-  const auto make_judge = [&](bool extra_source) -> JudgeFn {
-    return [&, extra_source](const std::string& path, std::vector<Correspondence> found_here,
-                             const PipelineConfig& e) {
+  // Estimates, checks and refines one source's correspondences; `keep_evidence` for the object
+  // centroids' hypothesis, whose refinement must keep its evidence.
+  const auto make_judge = [&](bool keep_evidence) -> JudgeFn {
+    return [&, keep_evidence](const std::string& path, std::vector<Correspondence> found_here,
+                              const PipelineConfig& e) {
       RegistrationResult r;
       r.path = path;
       Estimate(std::move(found_here), e, &r);
       ApplyVerification(source, target, e, path, &r);
-      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r, extra_source);
+      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r, keep_evidence);
       return r;
     };
   };
@@ -620,7 +620,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     more.whole_image_tried = true;
   }
   if (WantMoreHypotheses(config, result)) {
-    JudgeMoreHypotheses(source.scan, target.scan, config, more, make_judge(true), timer, &result);
+    JudgeMoreHypotheses(source.scan, target.scan, config, more, judge, make_judge(true), timer,
+                        &result);
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
