@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -104,13 +105,13 @@ struct FileStamp {
   }
 };
 
-struct VerifiedFile {
+struct HashedFile {
   FileStamp stamp;
   std::string sha256;
 };
 
 std::mutex g_cache_mutex;
-std::map<std::string, VerifiedFile> g_verified;  // keyed by absolute path
+std::map<std::string, HashedFile> g_verified;  // keyed by absolute path
 std::size_t g_files_hashed = 0;
 
 long long ToNanoseconds(const timespec& t) {
@@ -225,34 +226,42 @@ std::string RequireAssetFrom(const std::string& assets_dir, const std::string& r
   if (!S_ISREG(info.st_mode)) {
     throw MakeInputError(full_path, std::string("is not a regular file; ") + kFetchHint);
   }
-  const FileStamp stamp{info.st_dev, info.st_ino, info.st_size, ToNanoseconds(info.st_mtim),
-                        ToNanoseconds(info.st_ctim)};
-  std::error_code ec;
-  std::string key = fs::absolute(full_path, ec).lexically_normal().string();
-  if (ec) key = full_path;
-
-  {
-    std::lock_guard<std::mutex> lock(g_cache_mutex);
-    const auto cached = g_verified.find(key);
-    if (cached != g_verified.end() && cached->second.stamp == stamp &&
-        cached->second.sha256 == expected) {
-      return full_path;
-    }
-  }
-
-  const std::string actual = Sha256OfFile(full_path);
-  {
-    std::lock_guard<std::mutex> lock(g_cache_mutex);
-    ++g_files_hashed;
-  }
+  const std::string actual = Sha256OfFileRemembered(full_path);
   if (actual != expected) {
     throw MakeInputError(full_path, "sha256 mismatch (expected " + expected + ", got " + actual +
                                         "): the file is corrupt or a different version; " +
                                         kFetchHint + " to replace it");
   }
-  std::lock_guard<std::mutex> lock(g_cache_mutex);
-  g_verified[key] = VerifiedFile{stamp, actual};
   return full_path;
+}
+
+std::string Sha256OfFileRemembered(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0 || !S_ISREG(info.st_mode)) {
+    return Sha256OfFile(path);  // which names the problem
+  }
+  const FileStamp stamp{info.st_dev, info.st_ino, info.st_size, ToNanoseconds(info.st_mtim),
+                        ToNanoseconds(info.st_ctim)};
+  std::error_code ec;
+  std::string key = fs::absolute(path, ec).lexically_normal().string();
+  if (ec) key = path;
+  {
+    std::lock_guard<std::mutex> lock(g_cache_mutex);
+    const auto remembered = g_verified.find(key);
+    if (remembered != g_verified.end() && remembered->second.stamp == stamp) {
+      return remembered->second.sha256;
+    }
+  }
+  // A file changed in the same clock tick as it was hashed keeps its stamp, so a file modified
+  // in the last two seconds is hashed again next time instead of remembered (git's "racy" rule).
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  const bool settled = ToNanoseconds(now) - stamp.mtime_ns > 2'000'000'000LL;
+  const std::string digest = Sha256OfFile(path);
+  std::lock_guard<std::mutex> lock(g_cache_mutex);
+  ++g_files_hashed;
+  if (settled) g_verified[key] = HashedFile{stamp, digest};
+  return digest;
 }
 
 std::size_t AssetFilesHashedForTesting() {

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <system_error>
 
+#include "assets/assets_internal.hpp"
 #include "assets/sha256.hpp"
 #include "io/file_bytes.hpp"
 #include "zeroreg/assets.hpp"
@@ -97,9 +98,9 @@ GraphCacheEntry GraphCacheEntryFor(const std::string& directory, const std::stri
                                    const std::string& runtime_version) {
   // ORT_ENABLE_ALL is the level of every session zeroreg creates (src/inference/onnx_model.cpp);
   // it is in the key so that a change of level can never read graphs made at the old one.
-  const std::string key =
-      Sha256OfString("model=" + Sha256OfFile(model_path) + ";runtime=onnxruntime-" +
-                     runtime_version + ";level=all;cpu=" + CpuSignature());
+  const std::string key = Sha256OfString("model=" + detail::Sha256OfFileRemembered(model_path) +
+                                         ";runtime=onnxruntime-" + runtime_version +
+                                         ";level=all;cpu=" + CpuSignature());
   const std::string name = fs::path(model_path).stem().string() + "-" + key.substr(0, 16);
   GraphCacheEntry entry;
   entry.graph_path = (fs::path(directory) / (name + ".onnx")).string();

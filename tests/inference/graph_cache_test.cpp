@@ -6,14 +6,17 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
+#include "assets/assets_internal.hpp"
 #include "detect/backends.hpp"
 #include "detect/perception_test_util.hpp"
 #include "features/xfeat_extractor.hpp"
 #include "inference/onnx_model.hpp"
+#include "zeroreg/assets.hpp"
 
 namespace zeroreg {
 namespace {
@@ -98,6 +101,21 @@ TEST(GraphCache, EntryIsKeyedToTheModelBytesNotItsPath) {
   EXPECT_EQ(a.digest_path, a.graph_path + ".sha256");
   EXPECT_FALSE(CpuSignature().empty());
   EXPECT_EQ(CpuSignature(), CpuSignature());
+}
+
+// The model's digest is remembered for the process (detail::Sha256OfFileRemembered): RequireAsset
+// hashed it already, so keying its graph-cache entry does not read the model again.
+TEST(GraphCache, EntryKeyReusesTheDigestTheModelWasVerifiedWith) {
+  TempDir dir("graph_key_once");
+  const std::string model = dir.str() + "/model.onnx";
+  WriteFile(model, "settled bytes");
+  fs::last_write_time(model, fs::last_write_time(model) - std::chrono::hours(1));
+  const std::size_t before = detail::AssetFilesHashedForTesting();
+  EXPECT_EQ(detail::Sha256OfFileRemembered(model), Sha256OfFile(model));
+  const GraphCacheEntry first = GraphCacheEntryFor(dir.str() + "/cache", model, "1.2.3");
+  const GraphCacheEntry second = GraphCacheEntryFor(dir.str() + "/cache", model, "1.2.3");
+  EXPECT_EQ(first.graph_path, second.graph_path);
+  EXPECT_EQ(detail::AssetFilesHashedForTesting(), before + 1);
 }
 
 TEST(GraphCache, CommittedEntryIsValidUntilDamaged) {
