@@ -552,7 +552,9 @@ struct HypothesesConfig {
   // itself (0.448 against 0.372), see docs/CONFIG.md.
   bool enabled = true;
   // false: only when the method's own estimate is not valid (no cost on pairs it registers);
-  // true: always, and a source whose verified estimate scores higher replaces it.
+  // true: always, and a source whose verified estimate scores higher replaces it. Not safe: a
+  // wrong pose can score higher (hololens-gap5 162-167: the geometry source's 0.9 m slide replaced
+  // the method's right, degenerate-flagged estimate; docs/CONFIG.md).
   bool always = false;
   // (b) whole-image correspondences, when the object level has not already fallen back to them.
   bool image = true;
