@@ -552,9 +552,10 @@ struct HypothesesConfig {
   // itself (0.448 against 0.372), see docs/CONFIG.md.
   bool enabled = true;
   // false: only when the method's own estimate is not valid (no cost on pairs it registers);
-  // true: always, and a source whose verified estimate scores higher replaces it. Not safe: a
-  // wrong pose can score higher (hololens-gap5 162-167: the geometry source's 0.9 m slide replaced
-  // the method's right, degenerate-flagged estimate; docs/CONFIG.md).
+  // true: always, and a source whose verified estimate scores higher and agrees with a valid
+  // estimate of the method (within refine.max_distance_coarse_m RMS) replaces it; a disagreeing
+  // one does not (hololens-gap5 162-167: the geometry source's 0.9 m slide outscored the
+  // method's right estimate; docs/CONFIG.md).
   bool always = false;
   // (b) whole-image correspondences, when the object level has not already fallen back to them.
   bool image = true;

@@ -260,10 +260,22 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // The judge: the best of the method's result and every hypothesis. Only a valid hypothesis
   // replaces the method's result: among invalid ones the score says little (redkitchen-cross
   // 490-858: an invalid geometry estimate 178 deg off outscored the fallback's 13 deg one).
-  int best = -1;
+  // With hypotheses.always the method's estimate may be valid already. A source that disagrees
+  // with it (farther apart than ICP's widest gate, as for the image rival) does not replace it:
+  // the check's score cannot choose between two poses it accepts (hololens-gap5 162-167: the
+  // geometry source's pose 0.9 m off covered 45 % of the scans and outscored the method's right
+  // one, 13 %), and the method's estimate rests on its own correspondences.
+  const bool method_valid = result->valid;
+  int best = -1, disagreeing = 0;
   for (size_t k = 0; k < tried.size(); ++k) {
     const RegistrationResult& incumbent = best < 0 ? *result : tried[static_cast<size_t>(best)];
-    if (tried[k].valid && Better(tried[k], incumbent)) best = static_cast<int>(k);
+    if (!tried[k].valid || !Better(tried[k], incumbent)) continue;
+    if (method_valid &&
+        EstimateDisplacementRms(tried[k], *result) > config.refine.max_distance_coarse_m) {
+      ++disagreeing;
+      continue;
+    }
+    best = static_cast<int>(k);
   }
   std::vector<CandidateSummary> all = result->candidates;
   std::string summary;
@@ -282,6 +294,10 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   }
   if (best >= 0) Adopt(std::move(tried[static_cast<size_t>(best)]), result);
   result->candidates = std::move(all);
+  if (disagreeing > 0) {
+    summary += "; " + std::to_string(disagreeing) +
+               " valid, higher-scoring, disagreeing with the method's valid estimate: not taken";
+  }
   result->reason += " [hypotheses: " + summary + "; chosen: " + result->path + "]";
 }
 

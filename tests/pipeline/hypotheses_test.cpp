@@ -557,4 +557,34 @@ TEST(Hypotheses, RealCentroidEstimateRefinementMustKeepItsEvidence) {
   EXPECT_LT(RotationErrorDeg(geometry.T_target_source, GroundTruth(source, target)), 5.0);
 }
 
+// hypotheses.always: hololens-gap5 162 <- 167 (38 deg, 10 % covisible). The method's estimate is
+// valid and right (8.9 deg / 15 cm; geometry flagged degenerate); the geometry source's pose, 0.9 m
+// off, covers 45 % of the scans and scores higher. Two valid estimates that disagree beyond ICP's
+// gate: the method's stays.
+TEST(Hypotheses, RealAlwaysKeepsTheMethodsValidEstimateAgainstADisagreeingSource) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office";
+  const Scan source = LoadScan(dir + "@167"), target = LoadScan(dir + "@162");
+  const Transform gt = GroundTruth(source, target);
+  PipelineConfig always;
+  always.hypotheses.always = true;
+  const RegistrationResult r = Register(source, target, always);
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_NE(r.path, "geometry clique") << r.reason;
+  EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 15.0) << r.reason;
+  EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.3) << r.reason;
+  EXPECT_NE(r.reason.find("disagreeing with the method's valid estimate: not taken"),
+            std::string::npos)
+      << r.reason;
+  // The geometry source's candidate was made, passed the check and was wrong: the pair still
+  // tests the rule.
+  bool wrong_geometry_passed = false;
+  for (const CandidateSummary& c : r.candidates) {
+    if (c.name.rfind("geometry clique", 0) == 0 && c.passed &&
+        TranslationErrorM(c.T_target_source, gt) > 0.5) {
+      wrong_geometry_passed = true;
+    }
+  }
+  EXPECT_TRUE(wrong_geometry_passed);
+}
+
 }  // namespace zeroreg
