@@ -28,9 +28,8 @@ std::string RequireAssetFrom(const std::string& assets_dir, const std::string& r
 // Sha256OfFile, remembered for the process: a file whose device, inode, size, mtime and ctime
 // are those it had when it was last hashed here is not read again (unless it was modified less
 // than 2 s before that hashing: a change within one clock tick keeps the stamp). RequireAsset
-// verifies a model
-// with it, and the ONNX Runtime graph cache keys the same model by it (one read per model file
-// and process instead of two).
+// verifies a model with it, and the ONNX Runtime graph cache keys the same model by it (one read
+// per model file and process instead of two).
 std::string Sha256OfFileRemembered(const std::string& path);
 
 // How many files Sha256OfFileRemembered (and so RequireAsset) has hashed in this process (cache
