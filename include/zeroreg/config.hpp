@@ -568,6 +568,8 @@ struct HypothesesConfig {
   bool objects = true;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
+  // "ransac" here gave three valid-but-wrong results on HoloLens (geometry source, 12-18
+  // self-consistent wrong FPFH inliers the check accepted; BENCHMARKS.md "Stress runs").
   std::string estimator = "clique";
   // Count test of the extra sources' estimates: the inlier ratio asked of them (ransac.min_inliers
   // and min_inlier_spread_m still apply). 0: the geometric check judges; a low ratio is what
