@@ -42,6 +42,13 @@ void Adopt(RegistrationResult winner, RegistrationResult* result) {
   *result = std::move(winner);
 }
 
+// Two estimates whose correspondence points lie `apart_m` apart (EstimateDisplacementRms)
+// disagree beyond ICP's widest gate: neither would refine into the other, so they are two
+// answers, not one.
+bool Disagree(double apart_m, const PipelineConfig& config) {
+  return apart_m > config.refine.max_distance_coarse_m;
+}
+
 }  // namespace
 
 double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b) {
@@ -88,7 +95,7 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
   RegistrationResult rival = judge("image-rival", inputs.whole_image(), effective);
   timer.Mark("hypothesis image-rival");
   const double apart_m = EstimateDisplacementRms(*result, rival);
-  const bool disagree = apart_m > config.refine.max_distance_coarse_m;
+  const bool disagree = Disagree(apart_m, config);
   char line[240];
   std::snprintf(line, sizeof(line), "image-rival: %s, score %.3f, %.3f m RMS from %s",
                 rival.valid ? "valid" : "not valid", rival.verification.score, apart_m,
@@ -270,8 +277,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   for (size_t k = 0; k < tried.size(); ++k) {
     const RegistrationResult& incumbent = best < 0 ? *result : tried[static_cast<size_t>(best)];
     if (!tried[k].valid || !Better(tried[k], incumbent)) continue;
-    if (method_valid &&
-        EstimateDisplacementRms(tried[k], *result) > config.refine.max_distance_coarse_m) {
+    if (method_valid && Disagree(EstimateDisplacementRms(tried[k], *result), config)) {
       ++disagreeing;
       continue;
     }
