@@ -1,0 +1,227 @@
+#!/usr/bin/env python3
+"""Pairs that do not overlap, or barely: no wrong result may be valid (a benchmark, not a test).
+
+A loop-closure front end asks zeroreg about many candidate pairs, and most of them do not show
+the same surfaces at all. The frame lists of ../shared/lists hold only overlapping pairs, so
+they cannot show whether the pipeline refuses the rest. This script registers two kinds of pairs
+that share nothing and counts the results reported valid (every one is a valid-but-wrong
+result: no transform makes two scans without common surfaces agree):
+
+  same scene   frames of one scene of ../shared/data whose ground-truth co-visibility is below
+               --max-covisibility in both directions (depth of one frame moved into the other
+               camera by the ground truth, within 10 cm of the depth measured there: the rule of
+               ../shared/lists/README.md); candidates drawn at random (fixed seed) from the
+               scene's frames, the first --per-scene that qualify are kept
+  cross scene  a frame of one scene against a frame of another (different rooms, sensors)
+  low overlap  frames of one scene whose co-visibility (the smaller direction) lies in
+               --low-band (default 2-15 %): the regime where a wrong pose can look as good as
+               the right one; a valid result there must be right (RE < 15 deg, TE < 30 cm)
+
+    PYTHONPATH=build/python /usr/bin/python3 scripts/bench-negatives.py \
+        [--per-scene 30] [--cross 30] [--low-overlap 30] [--out results/negatives] \
+        [--set section.key=value ...]
+
+Writes OUT/pairs.jsonl (one record per pair: kind, scenes, frames, co-visibility, valid, errors
+against the ground truth where there is one, path, reason, time) and OUT/summary.md, prints the
+summary, and exits 1 when some wrong result was reported valid. The pipeline is the default one (or
+the --set overrides), seed 0, one Pipeline for all pairs.
+"""
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.environ.get("ZEROREG_PYTHONPATH", "build/python"))
+import zeroreg  # noqa: E402
+
+SCENES = ["7scenes-redkitchen", "hololens-office", "tum-fr3-cabinet"]
+
+
+def frame_ids(scene_dir):
+    ids = []
+    for name in os.listdir(os.path.join(scene_dir, "frames")):
+        if name.endswith(".pose.txt"):
+            ids.append(int(name.split(".")[0].split("-")[1]))
+    return sorted(ids)
+
+
+def camera_points(view, stride=4):
+    """Valid depth pixels of a view on a grid, as camera-frame points (metres)."""
+    depth = np.asarray(view.depth, dtype=np.float64)
+    if view.depth_scale:
+        depth = depth / view.depth_scale
+    K = np.asarray(view.intrinsics)
+    v, u = np.mgrid[0 : depth.shape[0] : stride, 0 : depth.shape[1] : stride]
+    z = depth[v, u]
+    ok = (z > 0.1) & (z < 8.0) & np.isfinite(z)
+    u, v, z = u[ok], v[ok], z[ok]
+    x = (u - K[0, 2]) * z / K[0, 0]
+    y = (v - K[1, 2]) * z / K[1, 1]
+    return np.stack([x, y, z], axis=1)
+
+
+def seen_fraction(points_a, T_b_a, view_b, tolerance_m=0.10):
+    """Fraction of a's points that land on b's measured surface within tolerance_m."""
+    if len(points_a) == 0:
+        return 0.0
+    depth = np.asarray(view_b.depth, dtype=np.float64)
+    if view_b.depth_scale:
+        depth = depth / view_b.depth_scale
+    K = np.asarray(view_b.intrinsics)
+    p = points_a @ T_b_a[:3, :3].T + T_b_a[:3, 3]
+    front = p[:, 2] > 0.1
+    p = p[front]
+    u = np.round(K[0, 0] * p[:, 0] / p[:, 2] + K[0, 2]).astype(int)
+    v = np.round(K[1, 1] * p[:, 1] / p[:, 2] + K[1, 2]).astype(int)
+    inside = (u >= 0) & (u < depth.shape[1]) & (v >= 0) & (v < depth.shape[0])
+    d = depth[v[inside], u[inside]]
+    agree = (d > 0) & (np.abs(d - p[inside, 2]) < tolerance_m)
+    return float(agree.sum()) / len(points_a)
+
+
+def covisibility(scan_a, scan_b):
+    """(smaller, larger) of the two directions' fractions of one frame's depth seen by the other."""
+    T_b_a = np.linalg.inv(scan_b.T_world_scan_gt) @ scan_a.T_world_scan_gt
+    pa, pb = camera_points(scan_a.views[0]), camera_points(scan_b.views[0])
+    both = (seen_fraction(pa, T_b_a, scan_b.views[0]),
+            seen_fraction(pb, np.linalg.inv(T_b_a), scan_a.views[0]))
+    return min(both), max(both)
+
+
+def parse_sets(items):
+    config = {}
+    for item in items:
+        key, _, value = item.partition("=")
+        if not value:
+            sys.exit(f"--set {item!r}: expected section.key=value")
+        try:
+            parsed = json.loads(value)
+        except json.JSONDecodeError:
+            parsed = value
+        node = config
+        parts = key.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+        node[parts[-1]] = parsed
+    return config
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--data", default="../shared/data")
+    ap.add_argument("--per-scene", type=int, default=30, help="non-overlapping pairs per scene")
+    ap.add_argument("--cross", type=int, default=30, help="cross-scene pairs")
+    ap.add_argument("--max-covisibility", type=float, default=0.01,
+                    help="same scene: both directions below this")
+    ap.add_argument("--low-overlap", type=int, default=30, help="low-overlap pairs per scene")
+    ap.add_argument("--low-band", type=float, nargs=2, default=[0.02, 0.15], metavar=("LO", "HI"),
+                    help="low overlap: the smaller direction's co-visibility in [LO, HI)")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the pair sampling")
+    ap.add_argument("--out", default="results/negatives")
+    ap.add_argument("--set", action="append", default=[], help="config override section.key=value")
+    args = ap.parse_args()
+
+    for scene in SCENES:
+        if not os.path.isdir(os.path.join(args.data, scene, "frames")):
+            sys.exit(f"{os.path.join(args.data, scene)}: scene not found (--data holds {SCENES})")
+    os.makedirs(args.out, exist_ok=True)
+    rng = np.random.default_rng(args.seed)
+    pipeline = zeroreg.Pipeline(parse_sets(args.set), seed=0)
+    cache = {}
+
+    def scan(scene, frame):
+        key = (scene, frame)
+        if key not in cache:
+            cache[key] = zeroreg.load_scan(f"{os.path.join(args.data, scene)}@{frame}")
+        return cache[key]
+
+    pairs = []  # (kind, target scene, target frame, source scene, source frame, covisibility)
+    for scene in SCENES:
+        ids = frame_ids(os.path.join(args.data, scene))
+        wanted = {"same scene": args.per_scene, "low overlap": args.low_overlap}
+        found = {kind: 0 for kind in wanted}
+        tries = 0
+        seen = set()  # each unordered pair once
+        while any(found[k] < wanted[k] for k in wanted) and tries < 50 * sum(wanted.values()):
+            tries += 1
+            i, j = (int(x) for x in rng.choice(ids, size=2, replace=False))
+            if (i, j) in seen or (j, i) in seen:
+                continue
+            seen.add((i, j))
+            low, high = covisibility(scan(scene, j), scan(scene, i))
+            if high < args.max_covisibility:
+                kind = "same scene"
+            elif args.low_band[0] <= low < args.low_band[1]:
+                kind = "low overlap"
+            else:
+                continue
+            if found[kind] < wanted[kind]:
+                pairs.append((kind, scene, i, scene, j, low))
+                found[kind] += 1
+        for kind in wanted:
+            if found[kind] < wanted[kind]:
+                print(f"{scene}: only {found[kind]} {kind} pairs in {tries} tries", file=sys.stderr)
+    ids = {scene: frame_ids(os.path.join(args.data, scene)) for scene in SCENES}
+    for k in range(args.cross):
+        a, b = (SCENES[x] for x in rng.choice(len(SCENES), size=2, replace=False))
+        pairs.append(("cross scene", a, int(rng.choice(ids[a])), b, int(rng.choice(ids[b])), 0.0))
+
+    records = []
+    with open(os.path.join(args.out, "pairs.jsonl"), "w") as out:
+        for n, (kind, ts, tf, ss, sf, c) in enumerate(pairs):
+            start = time.perf_counter()
+            r = pipeline.register(scan(ss, sf), scan(ts, tf))
+            seconds = time.perf_counter() - start
+            rec = {"kind": kind, "target": f"{ts}@{tf}", "source": f"{ss}@{sf}",
+                   "covisibility": round(c, 4), "valid": bool(r.valid), "path": r.path,
+                   "reason": r.reason, "time_ms": round(1000 * seconds, 1)}
+            if ss == ts:
+                gt = np.linalg.inv(scan(ts, tf).T_world_scan_gt) @ scan(ss, sf).T_world_scan_gt
+                rec["rotation_error_deg"] = zeroreg.rotation_error_deg(r.T_target_source, gt)
+                rec["translation_error_m"] = zeroreg.translation_error_m(r.T_target_source, gt)
+            # Without a common surface no transform is right; with one, the suite's criterion.
+            rec["right"] = (kind == "low overlap" and rec["rotation_error_deg"] < 15
+                            and rec["translation_error_m"] < 0.3)
+            records.append(rec)
+            out.write(json.dumps(rec) + "\n")
+            print(f"[{n + 1}/{len(pairs)}] {kind}: {rec['source']} -> {rec['target']}: "
+                  f"{'valid' if r.valid else 'invalid'}, {'right' if rec['right'] else 'wrong'}",
+                  file=sys.stderr, flush=True)
+
+    lines = ["| pairs | scenes | count | valid-right / valid-WRONG / invalid-right / invalid-wrong "
+             "| median ms / pair |", "|---|---|---|---|---|"]
+    groups = {}
+    for rec in records:
+        scene = rec["target"].split("@")[0]
+        group = (rec["kind"], "any two" if rec["kind"] == "cross scene" else scene)
+        groups.setdefault(group, []).append(rec)
+    def verdicts(recs):
+        count = {(v, ri): 0 for v in (True, False) for ri in (True, False)}
+        for r in recs:
+            count[(r["valid"], r["right"])] += 1
+        return (f"{count[(True, True)]} / {count[(True, False)]} / {count[(False, True)]} / "
+                f"{count[(False, False)]}")
+
+    for (kind, scene), recs in groups.items():
+        lines.append(f"| {kind} | {scene} | {len(recs)} | {verdicts(recs)} | "
+                     f"{statistics.median(r['time_ms'] for r in recs):.0f} |")
+    valid_wrong = sum(r["valid"] and not r["right"] for r in records)
+    lines.append(f"| all | | {len(records)} | {verdicts(records)} | "
+                 f"{statistics.median(r['time_ms'] for r in records):.0f} |")
+    for rec in records:
+        if rec["valid"] and not rec["right"]:
+            lines.append(f"\nVALID-WRONG: {rec['source']} -> {rec['target']} ({rec['kind']}, "
+                         f"co-visibility {rec['covisibility']}): {rec['reason']}")
+    summary = "\n".join(lines) + "\n"
+    with open(os.path.join(args.out, "summary.md"), "w") as f:
+        f.write(summary)
+    print(summary)
+    return 1 if valid_wrong else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
