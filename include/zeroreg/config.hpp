@@ -590,11 +590,16 @@ struct HypothesesConfig {
   // true: ICP's refinement of the object centroids' estimate (d) must keep that estimate's
   // evidence (refine.min_kept_inlier_fraction of its inliers, and at least 4, within its 0.3 m
   // inlier distance of the refined transform) even when the check refused the estimate. The
-  // point sources are exempt there, as the method's estimate is (refine: their refused estimates
-  // are often a few degrees off on repeated structure and ICP reaches the truth, redkitchen-cross
-  // 471-866, cabinet-gap3 0-3); a few centroids pin no surface, and ICP from a wrong centroid
-  // estimate travelled 1.2-1.4 m, 29-43 deg into a wrong pose the check accepted (hololens-cross
-  // 49-368 and 50-369 with both detectors on every view, detector.ensemble_below = 0).
+  // point sources (b, c) keep at least 4 of their estimate's inliers within ICP's gate, checked
+  // or not, but not the fraction where the check refused the estimate, as the method's estimate
+  // (refine: their refused estimates are often a few degrees off on repeated structure and ICP
+  // reaches the truth keeping a few, redkitchen-cross 471-866, cabinet-gap3 0-3: 19 of 713). A few
+  // centroids pin no surface, and ICP from a wrong centroid estimate travelled 1.2-1.4 m, 29-43
+  // deg into a wrong pose the check accepted (hololens-cross 49-368 and 50-369 with both
+  // detectors on every view, detector.ensemble_below = 0); ICP from the geometry source's refused
+  // estimate moved 55 cm into a pose 176 deg wrong keeping 1 inlier (redkitchen 134-765, 2 %
+  // co-visible, scripts/bench-negatives.py). Three correspondences fit some motion whenever their
+  // pairwise distances agree, hence 4.
   bool refine_keeps_evidence = true;
   // true: a valid estimate of the object path is also checked against the whole-image one
   // (estimated, verified and refined as the fallback's would be). If that one is valid too,

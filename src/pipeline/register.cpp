@@ -212,16 +212,32 @@ void ApplyVerification(const Prepared& source, const Prepared& target, const Pip
   r->reason = r->verification.reason + " (" + r->reason + ")";
 }
 
+// What ICP's refinement of an extra hypothesis (hypotheses.refine_keeps_evidence) must keep of
+// the estimate's inliers within the gate of Refine, beyond the method's own test. Three
+// correspondences agree with some motion whenever their pairwise distances do; a refined pose
+// that keeps fewer than four of the estimate's rests on nothing but the check.
+struct KeptEvidence {
+  // The kept fraction (refine.min_kept_inlier_fraction) applies even where the check refused the
+  // estimate: the object centroids, which pin no surface.
+  bool fraction_always = false;
+  // At least this many are kept, whether or not the check accepted the estimate; 0 = no floor
+  // (the method's own estimate). The point sources' refused estimates keep only this floor: on
+  // repeated structure they are a few degrees off and ICP reaches the truth keeping a small part
+  // of them (cabinet-gap3 0-3: 21 deg to 1.1 deg, 19 of 713 within 0.08 m), while ICP from the
+  // geometry source's estimate that kept 1 of 261 went 180 deg wrong (redkitchen 134 -> 765,
+  // co-visibility 2 %, scripts/bench-negatives.py).
+  int min_kept = 0;
+};
+
 // Coarse-to-fine point-to-plane ICP from the estimate. The refined transform is kept only when
 // the geometric check scores it at least as well as the estimate it started from (issue 10) and
 // at least half of the estimate's inlier correspondences stay within its coarse gate: ICP fits all
 // of both scans' geometry, so where it slides (along a plane, pulled by surface one scan sees
 // alone) the scans agree less or the image evidence is left behind, and the estimate stays. Without
 // verification ICP is kept.
-// `centroid_estimate`: *r is the object centroids' hypothesis, whose refinement keeps its
-// evidence whether or not the check accepted it (hypotheses.refine_keeps_evidence).
+// `rule`: what an extra hypothesis's refinement must keep besides (KeptEvidence).
 void Refine(const Prepared& source, const Prepared& target, const PipelineConfig& pipeline,
-            RegistrationResult* r, bool centroid_estimate = false) {
+            RegistrationResult* r, KeptEvidence rule = {}) {
   const RefineConfig& config = pipeline.refine;
   IcpAnchors anchors;
   for (size_t i = 0; i < r->correspondences.size(); ++i) {
@@ -272,18 +288,19 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
     // travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross 49-368, 50-369,
     // both detectors on every view). Its refinement keeps its evidence always, each inlier within
     // the distance it was counted at (0.3 m, wider than the gate).
-    const bool keep_centroids = centroid_estimate && pipeline.hypotheses.refine_keeps_evidence;
-    const bool evidence_needed =
-        r->verification.passed || refined.verification.degenerate || keep_centroids;
+    const bool keep_evidence = pipeline.hypotheses.refine_keeps_evidence;
+    const bool evidence_needed = r->verification.passed || refined.verification.degenerate ||
+                                 (keep_evidence && rule.fraction_always);
     const double gate_m =
         std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m);
     const int kept = CountWithin(*r, icp.T_target_source, gate_m);
     // Three correspondences agree with some motion whenever their pairwise distances do, which
     // three object centroids at 0.3 m often do (hololens-cross 50-369: 3 of 20 kept, 43 deg off):
-    // a centroid estimate's refinement keeps at least four.
+    // an extra hypothesis's refinement keeps at least four of them, checked or not.
+    const double floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
     const double kept_needed =
-        std::max(config.min_kept_inlier_fraction * r->num_inliers, keep_centroids ? 4.0 : 0.0);
-    if (evidence_needed && kept < kept_needed) {
+        evidence_needed ? std::max(config.min_kept_inlier_fraction * r->num_inliers, floor) : floor;
+    if (kept < kept_needed) {
       std::snprintf(note, sizeof(note),
                     "; ICP refinement rejected: only %d of the %d correspondences that support "
                     "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
@@ -599,20 +616,20 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     Refine(source, target, effective, &result);
     timer.Mark("refine");
   }
-  // Estimates, checks and refines one source's correspondences; `keep_evidence` for the object
-  // centroids' hypothesis, whose refinement must keep its evidence.
-  const auto make_judge = [&](bool keep_evidence) -> JudgeFn {
-    return [&, keep_evidence](const std::string& path, std::vector<Correspondence> found_here,
-                              const PipelineConfig& e) {
+  // Estimates, checks and refines one source's correspondences; `rule`: what its refinement must
+  // keep of the estimate's evidence besides the method's own test (KeptEvidence).
+  const auto make_judge = [&](KeptEvidence rule) -> JudgeFn {
+    return [&, rule](const std::string& path, std::vector<Correspondence> found_here,
+                     const PipelineConfig& e) {
       RegistrationResult r;
       r.path = path;
       Estimate(std::move(found_here), e, &r);
       ApplyVerification(source, target, e, path, &r);
-      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r, keep_evidence);
+      if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r, rule);
       return r;
     };
   };
-  const JudgeFn judge = make_judge(false);
+  const JudgeFn judge = make_judge({});
   // A valid object-path estimate against the whole-image one (hypotheses.image_rival and its
   // degenerate and rescued forms, which compare the two over the source surface).
   more.source_surface = &source.surface;
@@ -620,8 +637,9 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     more.whole_image_tried = true;
   }
   if (WantMoreHypotheses(config, result)) {
-    JudgeMoreHypotheses(source.scan, target.scan, config, more, judge, make_judge(true), timer,
-                        &result);
+    JudgeMoreHypotheses(source.scan, target.scan, config, more,
+                        make_judge({/*fraction_always=*/false, /*min_kept=*/4}),
+                        make_judge({/*fraction_always=*/true, /*min_kept=*/4}), timer, &result);
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;

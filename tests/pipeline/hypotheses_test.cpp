@@ -557,6 +557,31 @@ TEST(Hypotheses, RealCentroidEstimateRefinementMustKeepItsEvidence) {
   EXPECT_LT(RotationErrorDeg(geometry.T_target_source, GroundTruth(source, target)), 5.0);
 }
 
+// hypotheses.refine_keeps_evidence for the point sources: redkitchen 134 <- 765 shares 2 % of its
+// depth (ground truth; scripts/bench-negatives.py, low-overlap pairs). Only the geometry source
+// reaches a consensus, refused by the check; ICP from it moved 55 cm into a pose the check accepted,
+// 176 deg from the truth (the kitchen's other side), keeping 1 of the estimate's inliers. A
+// refinement must keep at least four of them, so the result is not valid. (The cabinet pair of the
+// test above, 19 kept, stays valid.)
+TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
+  const std::string dir = testing::SharedDir() + "/data/7scenes-redkitchen";
+  const Scan source = LoadScan(dir + "@765"), target = LoadScan(dir + "@134");
+  const Transform gt = GroundTruth(source, target);
+  const auto wrong = [&](const RegistrationResult& r) {
+    return RotationErrorDeg(r.T_target_source, gt) > 15.0 ||
+           TranslationErrorM(r.T_target_source, gt) > 0.3;
+  };
+  PipelineConfig without_rule;
+  without_rule.hypotheses.refine_keeps_evidence = false;
+  const RegistrationResult before = Register(source, target, without_rule);
+  EXPECT_TRUE(before.valid && wrong(before) && before.path == "geometry clique")
+      << "the pair no longer tests a wrong refinement of the geometry source: " << before.path
+      << ", " << before.reason;
+  const RegistrationResult after = Register(source, target, PipelineConfig());
+  EXPECT_FALSE(after.valid && wrong(after)) << after.path << ", " << after.reason;
+  EXPECT_FALSE(after.valid) << after.reason;
+}
+
 // hypotheses.always: hololens-gap5 162 <- 167 (38 deg, 10 % covisible). The method's estimate is
 // valid and right (8.9 deg / 15 cm; geometry flagged degenerate); the geometry source's pose, 0.9 m
 // off, covers 45 % of the scans and scores higher. Two valid estimates that disagree beyond ICP's
