@@ -599,7 +599,10 @@ struct HypothesesConfig {
   // detectors on every view, detector.ensemble_below = 0); ICP from the geometry source's refused
   // estimate moved 55 cm into a pose 176 deg wrong keeping 1 inlier (redkitchen 134-765, 2 %
   // co-visible, scripts/bench-negatives.py). Three correspondences fit some motion whenever their
-  // pairwise distances agree, hence 4.
+  // pairwise distances agree, hence 4. And an extra source's estimate the check accepted whose
+  // refinement is rejected for leaving that evidence, yet lands on a pose the check accepts as
+  // well, farther than refine.max_distance_coarse_m, is not valid: the check cannot choose between
+  // two poses it accepts (redkitchen 299-80: 179 deg off, score 0.205 against ICP's 0.203).
   bool refine_keeps_evidence = true;
   // true: a valid estimate of the object path is also checked against the whole-image one
   // (estimated, verified and refined as the fallback's would be). If that one is valid too,

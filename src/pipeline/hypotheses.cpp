@@ -42,14 +42,11 @@ void Adopt(RegistrationResult winner, RegistrationResult* result) {
   *result = std::move(winner);
 }
 
-// Two estimates whose correspondence points lie `apart_m` apart (EstimateDisplacementRms)
-// disagree beyond ICP's widest gate: neither would refine into the other, so they are two
-// answers, not one.
+}  // namespace
+
 bool Disagree(double apart_m, const PipelineConfig& config) {
   return apart_m > config.refine.max_distance_coarse_m;
 }
-
-}  // namespace
 
 double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b) {
   double sum = 0.0;
@@ -287,10 +284,12 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   std::string summary;
   auto describe = [](const RegistrationResult& r) {
     char line[200];
-    std::snprintf(
-        line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(),
-        r.valid ? "valid" : (r.count_test_passed ? "refused by the check" : "no consensus"),
-        r.verification.score);
+    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(),
+                  r.valid                 ? "valid"
+                  : !r.count_test_passed  ? "no consensus"
+                  : r.verification.passed ? "not valid: another pose passes the check as well"
+                                          : "refused by the check",
+                  r.verification.score);
     return std::string(line);
   };
   summary += describe(*result);

@@ -83,6 +83,11 @@ bool JudgeImageRival(const PipelineConfig& config, const PipelineConfig& effecti
 // correspondences; 0 when neither has any.
 double EstimateDisplacementRms(const RegistrationResult& a, const RegistrationResult& b);
 
+// Two estimates whose correspondence points lie `apart_m` apart (EstimateDisplacementRms)
+// disagree beyond ICP's widest gate (refine.max_distance_coarse_m): neither would refine into the
+// other, so they are two answers, not one.
+bool Disagree(double apart_m, const PipelineConfig& config);
+
 // RMS distance (metres) between where a and b put the points of `surface`; 0 when it is null or
 // empty.
 double PointDisplacementRms(const std::vector<SurfacePoint>* surface, const Transform& a,

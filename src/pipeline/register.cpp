@@ -221,11 +221,12 @@ struct KeptEvidence {
   // estimate: the object centroids, which pin no surface.
   bool fraction_always = false;
   // At least this many are kept, whether or not the check accepted the estimate; 0 = no floor
-  // (the method's own estimate). The point sources' refused estimates keep only this floor: on
-  // repeated structure they are a few degrees off and ICP reaches the truth keeping a small part
-  // of them (cabinet-gap3 0-3: 21 deg to 1.1 deg, 19 of 713 within 0.08 m), while ICP from the
-  // geometry source's estimate that kept 1 of 261 went 180 deg wrong (redkitchen 134 -> 765,
-  // co-visibility 2 %, scripts/bench-negatives.py).
+  // (the method's own estimate). With a floor, the estimate is also not valid when its rejected
+  // refinement is a pose the check accepts too, farther than ICP's widest gate (Refine). The point
+  // sources' refused estimates keep only this floor: on repeated structure they are a few degrees
+  // off and ICP reaches the truth keeping a small part of them (cabinet-gap3 0-3: 21 deg to 1.1
+  // deg, 19 of 713 within 0.08 m), while ICP from the geometry source's estimate that kept 1 of 261
+  // went 180 deg wrong (redkitchen 134 -> 765, co-visibility 2 %, scripts/bench-negatives.py).
   int min_kept = 0;
 };
 
@@ -306,6 +307,19 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
                     "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
                     kept, r->num_inliers, gate_m, moved_m * 100, turned_deg);
       r->reason += note;
+      // An extra source's estimate the check accepted, whose refinement left its evidence for
+      // another pose the check accepts as well, farther than ICP's widest gate: the check cannot
+      // choose between two poses it accepts (as for hypotheses.always), and the estimate rests on
+      // a few matches of a source whose matches are mostly wrong by construction. Neither is
+      // valid. (redkitchen 299 <- 80, 6 % co-visible: the geometry source's estimate, 179 deg
+      // off, scored 0.205 and ICP's pose 76 cm away 0.203; scripts/bench-negatives.py.)
+      if (keep_evidence && rule.min_kept > 0 && r->valid && refined.verification.passed &&
+          Disagree(EstimateDisplacementRms(*r, refined), pipeline)) {
+        r->valid = false;
+        r->reason +=
+            "; not valid: the check accepts that pose as well, so the scans do not determine "
+            "the transform";
+      }
       return;
     }
     if (refined.verification.score < r->verification.score) {

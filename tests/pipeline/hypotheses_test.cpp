@@ -582,6 +582,28 @@ TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
   EXPECT_FALSE(after.valid) << after.reason;
 }
 
+// redkitchen 299 <- 80 shares 6 % of its depth. The geometry source's estimate, 179 deg off (the
+// kitchen's other side), passes the check; ICP from it leaves all its inliers for a pose 76 cm away
+// that passes too, with the same score. Two poses the check accepts, farther apart than ICP's
+// widest gate: the estimate is not valid (with refine_keeps_evidence off it was returned valid).
+TEST(Hypotheses, RealEstimateIsNotValidWhenItsRefinementIsAnotherAcceptedPose) {
+  const std::string dir = testing::SharedDir() + "/data/7scenes-redkitchen";
+  const Scan source = LoadScan(dir + "@80"), target = LoadScan(dir + "@299");
+  const Transform gt = GroundTruth(source, target);
+  PipelineConfig without_rule;
+  without_rule.hypotheses.refine_keeps_evidence = false;
+  const RegistrationResult before = Register(source, target, without_rule);
+  EXPECT_TRUE(before.valid && RotationErrorDeg(before.T_target_source, gt) > 15.0 &&
+              before.path == "geometry clique")
+      << "the pair no longer tests an ambiguous geometry estimate: " << before.path << ", "
+      << before.reason;
+  const RegistrationResult after = Register(source, target, PipelineConfig());
+  EXPECT_FALSE(after.valid) << after.path << ", " << after.reason;
+  EXPECT_NE(after.reason.find("geometry clique: not valid: another pose passes the check"),
+            std::string::npos)
+      << after.reason;
+}
+
 // hypotheses.always: hololens-gap5 162 <- 167 (38 deg, 10 % covisible). The method's estimate is
 // valid and right (8.9 deg / 15 cm; geometry flagged degenerate); the geometry source's pose, 0.9 m
 // off, covers 45 % of the scans and scores higher. Two valid estimates that disagree beyond ICP's
