@@ -24,6 +24,24 @@ Transform GroundTruth(const Scan& source, const Scan& target) {
   return target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
 }
 
+// Two frames of a scene of ../shared/data with their ground truth (source -> target), and
+// whether a result is wrong by the suite's criterion (RE >= 15 deg or TE >= 30 cm).
+struct RealPair {
+  Scan source, target;
+  Transform gt;
+  bool Wrong(const RegistrationResult& r) const {
+    return RotationErrorDeg(r.T_target_source, gt) > 15.0 ||
+           TranslationErrorM(r.T_target_source, gt) > 0.3;
+  }
+};
+RealPair LoadRealPair(const std::string& scene, int source_frame, int target_frame) {
+  const std::string dir = testing::SharedDir() + "/data/" + scene + "@";
+  RealPair p{LoadScan(dir + std::to_string(source_frame)),
+             LoadScan(dir + std::to_string(target_frame)), Transform::Identity()};
+  p.gt = GroundTruth(p.source, p.target);
+  return p;
+}
+
 Transform MakeTransform(double angle_rad, const Eigen::Vector3d& axis, const Eigen::Vector3d& t) {
   Transform T = Transform::Identity();
   T.topLeftCorner<3, 3>() = Eigen::AngleAxisd(angle_rad, axis.normalized()).toRotationMatrix();
@@ -559,26 +577,26 @@ TEST(Hypotheses, RealCentroidEstimateRefinementMustKeepItsEvidence) {
 
 // hypotheses.refine_keeps_evidence for the point sources: redkitchen 134 <- 765 shares 2 % of its
 // depth (ground truth; scripts/bench-negatives.py, low-overlap pairs). Only the geometry source
-// reaches a consensus, refused by the check; ICP from it moved 55 cm into a pose the check accepted,
-// 176 deg from the truth (the kitchen's other side), keeping 1 of the estimate's inliers. A
-// refinement must keep at least four of them, so the result is not valid. (The cabinet pair of the
-// test above, 19 kept, stays valid.)
-TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
-  const std::string dir = testing::SharedDir() + "/data/7scenes-redkitchen";
-  const Scan source = LoadScan(dir + "@765"), target = LoadScan(dir + "@134");
-  const Transform gt = GroundTruth(source, target);
-  const auto wrong = [&](const RegistrationResult& r) {
-    return RotationErrorDeg(r.T_target_source, gt) > 15.0 ||
-           TranslationErrorM(r.T_target_source, gt) > 0.3;
-  };
+// reaches a consensus, refused by the check; ICP from it moved 55 cm into a pose the check
+// accepted, 176 deg from the truth (the kitchen's other side), keeping 1 of the estimate's inliers.
+// A refinement must keep at least four of them, so the result is not valid. (The cabinet pair of
+// the test above, 19 kept, stays valid.)
+// The pair's result with the default config, after checking that without
+// hypotheses.refine_keeps_evidence it is valid, wrong and the geometry source's (so that the pair
+// still tests the rule).
+RegistrationResult RegisterGeometryCaseWithTheRule(const RealPair& pair) {
   PipelineConfig without_rule;
   without_rule.hypotheses.refine_keeps_evidence = false;
-  const RegistrationResult before = Register(source, target, without_rule);
-  EXPECT_TRUE(before.valid && wrong(before) && before.path == "geometry clique")
-      << "the pair no longer tests a wrong refinement of the geometry source: " << before.path
-      << ", " << before.reason;
-  const RegistrationResult after = Register(source, target, PipelineConfig());
-  EXPECT_FALSE(after.valid && wrong(after)) << after.path << ", " << after.reason;
+  const RegistrationResult before = Register(pair.source, pair.target, without_rule);
+  EXPECT_TRUE(before.valid && pair.Wrong(before) && before.path == "geometry clique")
+      << "the pair no longer tests the rule: " << before.path << ", " << before.reason;
+  return Register(pair.source, pair.target, PipelineConfig());
+}
+
+TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
+  const RealPair pair = LoadRealPair("7scenes-redkitchen", 765, 134);
+  const RegistrationResult after = RegisterGeometryCaseWithTheRule(pair);
+  EXPECT_FALSE(after.valid && pair.Wrong(after)) << after.path << ", " << after.reason;
   EXPECT_FALSE(after.valid) << after.reason;
 }
 
@@ -587,17 +605,8 @@ TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
 // that passes too, with the same score. Two poses the check accepts, farther apart than ICP's
 // widest gate: the estimate is not valid (with refine_keeps_evidence off it was returned valid).
 TEST(Hypotheses, RealEstimateIsNotValidWhenItsRefinementIsAnotherAcceptedPose) {
-  const std::string dir = testing::SharedDir() + "/data/7scenes-redkitchen";
-  const Scan source = LoadScan(dir + "@80"), target = LoadScan(dir + "@299");
-  const Transform gt = GroundTruth(source, target);
-  PipelineConfig without_rule;
-  without_rule.hypotheses.refine_keeps_evidence = false;
-  const RegistrationResult before = Register(source, target, without_rule);
-  EXPECT_TRUE(before.valid && RotationErrorDeg(before.T_target_source, gt) > 15.0 &&
-              before.path == "geometry clique")
-      << "the pair no longer tests an ambiguous geometry estimate: " << before.path << ", "
-      << before.reason;
-  const RegistrationResult after = Register(source, target, PipelineConfig());
+  const RegistrationResult after =
+      RegisterGeometryCaseWithTheRule(LoadRealPair("7scenes-redkitchen", 80, 299));
   EXPECT_FALSE(after.valid) << after.path << ", " << after.reason;
   EXPECT_NE(after.reason.find("geometry clique: not valid: another pose passes the check"),
             std::string::npos)
