@@ -128,16 +128,24 @@ def main():
     for scene in SCENES:
         if not os.path.isdir(os.path.join(args.data, scene, "frames")):
             sys.exit(f"{os.path.join(args.data, scene)}: scene not found (--data holds {SCENES})")
+    if not args.max_covisibility <= args.low_band[0] < args.low_band[1]:
+        sys.exit(f"--max-covisibility {args.max_covisibility} and --low-band {args.low_band}: "
+                 "expected max-covisibility <= LO < HI (a pair must be one kind or the other)")
     os.makedirs(args.out, exist_ok=True)
-    rng = np.random.default_rng(args.seed)
+    # One generator per kind, so that asking for more of one kind leaves the others' pairs alone.
+    rng_same = np.random.default_rng([args.seed, 0])
+    rng_cross = np.random.default_rng([args.seed, 1])
     pipeline = zeroreg.Pipeline(parse_sets(args.set), seed=0)
-    cache = {}
+    chosen = {}  # the scans of the chosen pairs only (sampling reads thousands of frames)
+
+    def load(scene, frame):
+        return zeroreg.load_scan(f"{os.path.join(args.data, scene)}@{frame}")
 
     def scan(scene, frame):
         key = (scene, frame)
-        if key not in cache:
-            cache[key] = zeroreg.load_scan(f"{os.path.join(args.data, scene)}@{frame}")
-        return cache[key]
+        if key not in chosen:
+            chosen[key] = load(scene, frame)
+        return chosen[key]
 
     pairs = []  # (kind, target scene, target frame, source scene, source frame, covisibility)
     for scene in SCENES:
@@ -148,11 +156,11 @@ def main():
         seen = set()  # each unordered pair once
         while any(found[k] < wanted[k] for k in wanted) and tries < 50 * sum(wanted.values()):
             tries += 1
-            i, j = (int(x) for x in rng.choice(ids, size=2, replace=False))
+            i, j = (int(x) for x in rng_same.choice(ids, size=2, replace=False))
             if (i, j) in seen or (j, i) in seen:
                 continue
             seen.add((i, j))
-            low, high = covisibility(scan(scene, j), scan(scene, i))
+            low, high = covisibility(load(scene, j), load(scene, i))
             if high < args.max_covisibility:
                 kind = "same scene"
             elif args.low_band[0] <= low < args.low_band[1]:
@@ -167,14 +175,21 @@ def main():
                 print(f"{scene}: only {found[kind]} {kind} pairs in {tries} tries", file=sys.stderr)
     ids = {scene: frame_ids(os.path.join(args.data, scene)) for scene in SCENES}
     for k in range(args.cross):
-        a, b = (SCENES[x] for x in rng.choice(len(SCENES), size=2, replace=False))
-        pairs.append(("cross scene", a, int(rng.choice(ids[a])), b, int(rng.choice(ids[b])), 0.0))
+        a, b = (SCENES[x] for x in rng_cross.choice(len(SCENES), size=2, replace=False))
+        pairs.append(("cross scene", a, int(rng_cross.choice(ids[a])), b,
+                      int(rng_cross.choice(ids[b])), 0.0))
+    if not pairs:
+        sys.exit("no pairs to register (all counts 0, or none found)")
 
     records = []
     with open(os.path.join(args.out, "pairs.jsonl"), "w") as out:
         for n, (kind, ts, tf, ss, sf, c) in enumerate(pairs):
             start = time.perf_counter()
-            r = pipeline.register(scan(ss, sf), scan(ts, tf))
+            try:
+                r = pipeline.register(scan(ss, sf), scan(ts, tf))
+            except (RuntimeError, ValueError) as e:  # a bad frame stops one pair, not the run
+                print(f"{ss}@{sf} -> {ts}@{tf}: {e}", file=sys.stderr)
+                continue
             seconds = time.perf_counter() - start
             rec = {"kind": kind, "target": f"{ts}@{tf}", "source": f"{ss}@{sf}",
                    "covisibility": round(c, 4), "valid": bool(r.valid), "path": r.path,

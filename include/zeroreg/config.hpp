@@ -590,7 +590,7 @@ struct HypothesesConfig {
   // true: ICP's refinement of the object centroids' estimate (d) must keep that estimate's
   // evidence (refine.min_kept_inlier_fraction of its inliers, and at least 4, within its 0.3 m
   // inlier distance of the refined transform) even when the check refused the estimate. The
-  // point sources (b, c) keep at least 4 of their estimate's inliers within ICP's gate, checked
+  // other sources (a-c) keep at least 4 of their estimate's inliers within ICP's gate, checked
   // or not, but not the fraction where the check refused the estimate, as the method's estimate
   // (refine: their refused estimates are often a few degrees off on repeated structure and ICP
   // reaches the truth keeping a few, redkitchen-cross 471-866, cabinet-gap3 0-3: 19 of 713). A few

@@ -282,12 +282,17 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   }
   std::vector<CandidateSummary> all = result->candidates;
   std::string summary;
-  auto describe = [](const RegistrationResult& r) {
+  // Why a result the check passed is not valid: an extra source's estimate in degenerate
+  // geometry (refuse_degenerate), or one whose refinement is another accepted pose (Refine).
+  auto describe = [&h](const RegistrationResult& r) {
+    const char* not_valid = h.refuse_degenerate && r.verification.degenerate
+                                ? "refused: degenerate geometry"
+                                : "not valid: another pose passes the check as well";
     char line[200];
     std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(),
                   r.valid                 ? "valid"
                   : !r.count_test_passed  ? "no consensus"
-                  : r.verification.passed ? "not valid: another pose passes the check as well"
+                  : r.verification.passed ? not_valid
                                           : "refused by the check",
                   r.verification.score);
     return std::string(line);

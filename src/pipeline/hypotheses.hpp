@@ -6,8 +6,10 @@
 //   (b) the whole-image correspondences, with the low-inlier estimator,
 //   (c) the scans' geometry: FPFH on the depth clouds, mutual nearest neighbours in feature space,
 //   (d) object centroids: every same-label object pair of the two scans,
-// each estimated, checked by the geometric verification and refined exactly as the method's own
-// estimate is (register.cpp supplies that as the JudgeFn). The best verified one is returned; all
+// each estimated, checked by the geometric verification and refined as the method's own estimate
+// is, with what the refinement must keep of the estimate's evidence on top
+// (hypotheses.refine_keeps_evidence; register.cpp supplies both as JudgeFns). The best verified
+// one is returned; all
 // are listed in RegistrationResult::candidates and the winner's source is RegistrationResult::path.
 #pragma once
 
@@ -48,9 +50,9 @@ struct HypothesisInputs {
 // result not valid unless hypotheses.always).
 bool WantMoreHypotheses(const PipelineConfig& config, const RegistrationResult& result);
 
-// Runs the enabled sources, judges each with `judge` (the object centroids with
-// `judge_object_pairs`, whose refinement must keep their evidence:
-// hypotheses.refine_keeps_evidence), and replaces *result by the best valid one (a valid result
+// Runs the enabled sources, judges (a)-(c) with `judge` and the object centroids (d) with
+// `judge_object_pairs` (what their refinements must keep: hypotheses.refine_keeps_evidence), and
+// replaces *result by the best valid one (a valid result
 // beats an invalid one, then the higher verification score wins; ties keep *result); an invalid
 // hypothesis never replaces *result. The candidates of every source are appended to
 // result->candidates; the winner's reason says which sources it beat and their scores. Each

@@ -220,13 +220,15 @@ struct KeptEvidence {
   // The kept fraction (refine.min_kept_inlier_fraction) applies even where the check refused the
   // estimate: the object centroids, which pin no surface.
   bool fraction_always = false;
-  // At least this many are kept, whether or not the check accepted the estimate; 0 = no floor
-  // (the method's own estimate). With a floor, the estimate is also not valid when its rejected
-  // refinement is a pose the check accepts too, farther than ICP's widest gate (Refine). The point
-  // sources' refused estimates keep only this floor: on repeated structure they are a few degrees
-  // off and ICP reaches the truth keeping a small part of them (cabinet-gap3 0-3: 21 deg to 1.1
-  // deg, 19 of 713 within 0.08 m), while ICP from the geometry source's estimate that kept 1 of 261
-  // went 180 deg wrong (redkitchen 134 -> 765, co-visibility 2 %, scripts/bench-negatives.py).
+  // At least this many are kept, whether or not the check accepted the estimate (an accepted
+  // estimate already keeps the fraction, at least 5 of the 10 RANSAC inliers by default, so the
+  // floor decides for refused ones); 0 = no floor (the method's own estimate). With a floor, the
+  // estimate is also not valid when its rejected refinement is a pose the check accepts too,
+  // farther than ICP's widest gate (Refine). The other sources' refused estimates keep only this
+  // floor: on repeated structure they are a few degrees off and ICP reaches the truth keeping a
+  // small part of them (cabinet-gap3 0-3: 21 deg to 1.1 deg, 19 of 713 within 0.08 m), while ICP
+  // from the geometry source's estimate that kept 1 of 261 went 176 deg wrong (redkitchen
+  // 134 -> 765, co-visibility 2 %, scripts/bench-negatives.py).
   int min_kept = 0;
 };
 
@@ -284,11 +286,12 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
     // check alone, as any other hypothesis is; except where the check finds the geometry
     // degenerate: there it cannot judge alone (a HoloLens wall lets ICP slide a metre and still
     // pass, hololens-gap5 165-170), as for the extra sources (hypotheses.refuse_degenerate).
-    // Not so for an estimate from object centroids (hypotheses.refine_keeps_evidence): a few
-    // centroids 0.3 m apart pin no surface, so ICP from their refused estimate starts blind; it
-    // travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross 49-368, 50-369,
-    // both detectors on every view). Its refinement keeps its evidence always, each inlier within
-    // the distance it was counted at (0.3 m, wider than the gate).
+    // The extra hypotheses are held to more (hypotheses.refine_keeps_evidence, KeptEvidence):
+    // a few object centroids 0.3 m apart pin no surface, so ICP from their refused estimate
+    // starts blind; it travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross
+    // 49-368, 50-369, both detectors on every view). Their refinement keeps its evidence always,
+    // each inlier within the distance it was counted at (0.3 m, wider than the gate). Every extra
+    // source's refinement keeps at least four of its estimate's inliers, refused or not.
     const bool keep_evidence = pipeline.hypotheses.refine_keeps_evidence;
     const bool evidence_needed = r->verification.passed || refined.verification.degenerate ||
                                  (keep_evidence && rule.fraction_always);
@@ -298,9 +301,10 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
     // Three correspondences agree with some motion whenever their pairwise distances do, which
     // three object centroids at 0.3 m often do (hololens-cross 50-369: 3 of 20 kept, 43 deg off):
     // an extra hypothesis's refinement keeps at least four of them, checked or not.
-    const double floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
+    const double kept_floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
     const double kept_needed =
-        evidence_needed ? std::max(config.min_kept_inlier_fraction * r->num_inliers, floor) : floor;
+        evidence_needed ? std::max(config.min_kept_inlier_fraction * r->num_inliers, kept_floor)
+                        : kept_floor;
     if (kept < kept_needed) {
       std::snprintf(note, sizeof(note),
                     "; ICP refinement rejected: only %d of the %d correspondences that support "
@@ -310,9 +314,10 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
       // An extra source's estimate the check accepted, whose refinement left its evidence for
       // another pose the check accepts as well, farther than ICP's widest gate: the check cannot
       // choose between two poses it accepts (as for hypotheses.always), and the estimate rests on
-      // a few matches of a source whose matches are mostly wrong by construction. Neither is
-      // valid. (redkitchen 299 <- 80, 6 % co-visible: the geometry source's estimate, 179 deg
-      // off, scored 0.205 and ICP's pose 76 cm away 0.203; scripts/bench-negatives.py.)
+      // a few correspondences of a source that runs because the method's own estimate failed,
+      // counted without an inlier ratio (hypotheses.min_inlier_ratio). Neither is valid.
+      // (redkitchen 299 <- 80, 6 % co-visible: the geometry source's estimate, 179 deg off,
+      // scored 0.205 and ICP's pose 76 cm away 0.203; scripts/bench-negatives.py.)
       if (keep_evidence && rule.min_kept > 0 && r->valid && refined.verification.passed &&
           Disagree(EstimateDisplacementRms(*r, refined), pipeline)) {
         r->valid = false;

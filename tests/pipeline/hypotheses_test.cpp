@@ -25,7 +25,7 @@ Transform GroundTruth(const Scan& source, const Scan& target) {
 }
 
 // Two frames of a scene of ../shared/data with their ground truth (source -> target), and
-// whether a result is wrong by the suite's criterion (RE >= 15 deg or TE >= 30 cm).
+// whether a result is wrong (RE above 15 deg or TE above 30 cm).
 struct RealPair {
   Scan source, target;
   Transform gt;
