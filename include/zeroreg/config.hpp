@@ -604,6 +604,16 @@ struct HypothesesConfig {
   // well, farther than refine.max_distance_coarse_m, is not valid: the check cannot choose between
   // two poses it accepts (redkitchen 299-80: 179 deg off, score 0.205 against ICP's 0.203).
   bool refine_keeps_evidence = true;
+  // The geometry source (c) and the object centroids (d) rest on no image correspondence: their
+  // estimate is valid only if the images agree too where the depth agrees, i.e. the Spearman rank
+  // correlation of the two images' grey levels at the agreeing samples
+  // (VerificationResult::brightness_rank_correlation; order of brightness survives exposure
+  // changes) is at least this. Unknown (fewer than 30 agreeing samples with colour) does not
+  // refuse. Measured (twenty-third session): 0.49-0.96 on every right result of the frame lists
+  // and of scripts/bench-negatives.py's low-overlap pairs; -0.50 to 0.24 on the geometry source's
+  // valid poses between two different rooms (5 of 180 cross-scene pairs, all of this session's
+  // valid-but-wrong results between scenes). 0.35 lies between the two; -1 = off.
+  double min_brightness_rank_correlation = 0.35;
   // true: a valid estimate of the object path is also checked against the whole-image one
   // (estimated, verified and refined as the fallback's would be). If that one is valid too,
   // disagrees with it (RMS displacement of the two results' correspondence points above

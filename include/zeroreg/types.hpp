@@ -121,6 +121,11 @@ struct VerificationResult {
   // the two senses); near 0 = the geometry does not fix that motion (a plane, a corridor).
   double probe_contradicted = 0.0;
   bool degenerate = false;
+  // Spearman rank correlation of the grey levels of the two images at the samples where the
+  // depth agrees (both directions pooled): near 1 when the surfaces that coincide are the same
+  // surfaces (exposure changes keep the order of brightness), near 0 or below when geometry alone
+  // lines up unrelated ones. NaN when fewer than 30 agreeing samples have colour in both scans.
+  double brightness_rank_correlation = 0.0;
   int source_samples = 0, target_samples = 0;  // sampled depth pixels of each scan
 };
 

@@ -214,8 +214,11 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   const PipelineConfig extra = ExtraSourceConfig(config);
   std::vector<RegistrationResult> tried;
   // Every extra source's result passes through here (HypothesesConfig::refuse_degenerate).
+  // `without_images`: the source's correspondences come from no image (geometry, centroids), so
+  // the images must agree where the depth does (min_brightness_rank_correlation).
   auto judge_extra = [&](const std::string& path, std::vector<Correspondence> correspondences,
-                         const PipelineConfig& effective, const JudgeFn& judge_with = nullptr) {
+                         const PipelineConfig& effective, const JudgeFn& judge_with = nullptr,
+                         bool without_images = false) {
     RegistrationResult r =
         (judge_with ? judge_with : judge)(path, std::move(correspondences), effective);
     if (h.refuse_degenerate && r.valid && r.verification.degenerate) {
@@ -223,6 +226,17 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
       r.reason +=
           "; refused: the geometry is degenerate and this source's correspondences are "
           "too weak to fix the open motion";
+    }
+    const double rho = r.verification.brightness_rank_correlation;
+    if (without_images && r.valid && std::isfinite(rho) &&
+        rho < h.min_brightness_rank_correlation) {
+      r.valid = false;
+      char note[200];
+      std::snprintf(note, sizeof(note),
+                    "; refused: the images disagree where the depth agrees (rank correlation of "
+                    "their brightness %.2f, need %.2f)",
+                    rho, h.min_brightness_rank_correlation);
+      r.reason += note;
     }
     return r;
   };
@@ -245,7 +259,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     geometry.ransac.inlier_threshold_m =
         std::max(config.ransac.inlier_threshold_m, 1.5 * h.geometry_voxel_m);
     tried.push_back(judge_extra("geometry " + h.estimator,
-                                GeometryCorrespondences(source, target, config), geometry));
+                                GeometryCorrespondences(source, target, config), geometry, nullptr,
+                                /*without_images=*/true));
     timer.Mark("hypothesis geometry");
   }
   // (d) Object centroids, judged at the centroid distance of the paper's Table 4 row (b).
@@ -256,7 +271,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
       objects.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
       objects.ransac.min_inliers = 3;
       tried.push_back(judge_extra("object-pairs " + h.estimator, std::move(pairs), objects,
-                                  judge_object_pairs));
+                                  judge_object_pairs, /*without_images=*/true));
       timer.Mark("hypothesis object-pairs");
     }
   }
@@ -285,8 +300,12 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // Why a result the check passed is not valid: an extra source's estimate in degenerate
   // geometry (refuse_degenerate), or one whose refinement is another accepted pose (Refine).
   auto describe = [&h](const RegistrationResult& r) {
+    const double rho = r.verification.brightness_rank_correlation;
     const char* not_valid = h.refuse_degenerate && r.verification.degenerate
                                 ? "refused: degenerate geometry"
+                            : std::isfinite(rho) && rho < h.min_brightness_rank_correlation &&
+                                    r.reason.find("the images disagree") != std::string::npos
+                                ? "refused: the images disagree where the depth agrees"
                                 : "not valid: another pose passes the check as well";
     char line[200];
     std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(),

@@ -239,6 +239,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("geometry_pixel_stride", c.geometry_pixel_stride, AtLeast(0));
   v("refuse_degenerate", c.refuse_degenerate);
   v("refine_keeps_evidence", c.refine_keeps_evidence);
+  v("min_brightness_rank_correlation", c.min_brightness_rank_correlation, Between(-1, 1));
   v("image_rival", c.image_rival);
   v("image_rival_degenerate", c.image_rival_degenerate);
   v("image_rival_rescued", c.image_rival_rescued);
@@ -553,17 +554,21 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"timings_ms", timings}};
   if (r.verification.ran) {
     const VerificationResult& v = r.verification;
-    j["verification"] = {{"passed", v.passed},
-                         {"reason", v.reason},
-                         {"overlap", v.overlap},
-                         {"overlap_max", v.overlap_max},
-                         {"violation", v.violation},
-                         {"residual_rms_m", v.residual_rms_m},
-                         {"score", v.score},
-                         {"probe_contradicted", v.probe_contradicted},
-                         {"degenerate", v.degenerate},
-                         {"source_samples", v.source_samples},
-                         {"target_samples", v.target_samples}};
+    j["verification"] = {
+        {"passed", v.passed},
+        {"reason", v.reason},
+        {"overlap", v.overlap},
+        {"overlap_max", v.overlap_max},
+        {"violation", v.violation},
+        {"residual_rms_m", v.residual_rms_m},
+        {"score", v.score},
+        {"probe_contradicted", v.probe_contradicted},
+        {"degenerate", v.degenerate},
+        {"brightness_rank_correlation", std::isfinite(v.brightness_rank_correlation)
+                                            ? json(v.brightness_rank_correlation)
+                                            : json(nullptr)},
+        {"source_samples", v.source_samples},
+        {"target_samples", v.target_samples}};
     json candidates = json::array();
     for (const CandidateSummary& c : r.candidates) {
       candidates.push_back({{"name", c.name},

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "estimate/lift.hpp"
@@ -40,13 +42,14 @@ enum class Evidence { kNone, kOccluded, kViolate, kAgree };
 
 // Where point p (camera frame of `view`) lands in the view's depth image, and what it says.
 Evidence Classify(const View& view, const Eigen::Vector3d& p, const VerifyConfig& c,
-                  double* residual, double* tolerance) {
+                  double* residual, double* tolerance, cv::Point* pixel = nullptr) {
   if (p.z() <= c.min_depth_m) return Evidence::kNone;
   const Intrinsics& K = view.intrinsics;
   const int u = static_cast<int>(std::lround(K.fx * p.x() / p.z() + K.cx));
   const int v = static_cast<int>(std::lround(K.fy * p.y() / p.z() + K.cy));
   const cv::Mat& depth = view.depth;
   if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return Evidence::kNone;
+  if (pixel != nullptr) *pixel = {u, v};
   const double centre = depth.at<float>(v, u);
   const int r = std::max(0, c.neighbourhood_px);
   double best_tolerance = 0, best_ratio = 1e30, nearest_front = 1e30;
@@ -83,10 +86,22 @@ Evidence Classify(const View& view, const Eigen::Vector3d& p, const VerifyConfig
   return Evidence::kOccluded;
 }
 
+// Grey level (0-255) of a colour pixel, the mean of its three channels (the same in RGB and BGR);
+// -1 when the view has no colour of the depth's size.
+float GrayAt(const View& view, int x, int y) {
+  const cv::Mat& color = view.color;
+  if (color.type() != CV_8UC3 || color.size() != view.depth.size()) return -1.0f;
+  const cv::Vec3b& c = color.at<cv::Vec3b>(y, x);
+  return (static_cast<float>(c[0]) + static_cast<float>(c[1]) + static_cast<float>(c[2])) / 3.0f;
+}
+
 // Points of scan A (already in B's scan frame) rendered into B's views; a point counts once,
 // with the strongest evidence any view of B gives (agreement over violation over occlusion).
+// `gray_pairs`: for each agreeing point with colour in both scans, (A's grey, B's grey where it
+// lands).
 RenderTally Render(const std::vector<SurfacePoint>& points_in_b, const Scan& b,
-                   const VerifyConfig& c, std::vector<Evidence>* evidence = nullptr) {
+                   const VerifyConfig& c, std::vector<Evidence>* evidence = nullptr,
+                   std::vector<std::pair<float, float>>* gray_pairs = nullptr) {
   RenderTally tally;
   if (evidence) evidence->clear();
   tally.points = static_cast<int>(points_in_b.size());
@@ -95,19 +110,28 @@ RenderTally Render(const std::vector<SurfacePoint>& points_in_b, const Scan& b,
   for (const SurfacePoint& s : points_in_b) {
     Evidence strongest = Evidence::kNone;
     double residual = 0, tolerance = 1;
+    size_t landed_view = 0;
+    cv::Point landed;
     for (size_t k = 0; k < b.views.size() && strongest != Evidence::kAgree; ++k) {
       const Eigen::Vector3d p = (T_camera_scan[k] * s.point.homogeneous()).head<3>();
       double r = 0, tau = 1;
-      const Evidence e = Classify(b.views[k], p, c, &r, &tau);
+      cv::Point pixel;
+      const Evidence e = Classify(b.views[k], p, c, &r, &tau, &pixel);
       if (static_cast<int>(e) > static_cast<int>(strongest)) {
         strongest = e;
         residual = r;
         tolerance = tau;
+        landed_view = k;
+        landed = pixel;
       }
     }
     if (evidence) evidence->push_back(strongest);
     switch (strongest) {
       case Evidence::kAgree:
+        if (gray_pairs != nullptr && s.gray >= 0.0f) {
+          const float there = GrayAt(b.views[landed_view], landed.x, landed.y);
+          if (there >= 0.0f) gray_pairs->emplace_back(s.gray, there);
+        }
         ++tally.agree;
         tally.score += 1.0 - (residual / tolerance) * (residual / tolerance);
         tally.sum_sq_residual += residual * residual;
@@ -131,7 +155,7 @@ std::vector<SurfacePoint> Moved(const std::vector<SurfacePoint>& points, const T
   const Eigen::Vector3d t = T.topRightCorner<3, 1>();
   std::vector<SurfacePoint> out;
   out.reserve(points.size());
-  for (const SurfacePoint& s : points) out.push_back({R * s.point + t, R * s.normal});
+  for (const SurfacePoint& s : points) out.push_back({R * s.point + t, R * s.normal, s.gray});
   return out;
 }
 
@@ -181,6 +205,44 @@ Transform WeakestMotion(const std::vector<SurfacePoint>& agreeing, double distan
   return T;
 }
 
+// Average ranks (1-based) of `values`, ties sharing the mean of their ranks.
+std::vector<double> Ranks(const std::vector<float>& values) {
+  std::vector<size_t> order(values.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return values[a] < values[b]; });
+  std::vector<double> ranks(values.size());
+  for (size_t i = 0; i < order.size();) {
+    size_t j = i;
+    while (j + 1 < order.size() && values[order[j + 1]] == values[order[i]]) ++j;
+    const double mean_rank = 0.5 * static_cast<double>(i + j) + 1.0;
+    for (size_t k = i; k <= j; ++k) ranks[order[k]] = mean_rank;
+    i = j + 1;
+  }
+  return ranks;
+}
+
+// Spearman's rank correlation of the pairs; NaN below 30 pairs or without spread.
+double RankCorrelation(const std::vector<std::pair<float, float>>& pairs) {
+  constexpr size_t kMinPairs = 30;
+  if (pairs.size() < kMinPairs) return std::numeric_limits<double>::quiet_NaN();
+  std::vector<float> a, b;
+  for (const auto& [x, y] : pairs) {
+    a.push_back(x);
+    b.push_back(y);
+  }
+  const std::vector<double> ra = Ranks(a), rb = Ranks(b);
+  const double n = static_cast<double>(pairs.size()), mean = (n + 1.0) / 2.0;
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < pairs.size(); ++i) {
+    sab += (ra[i] - mean) * (rb[i] - mean);
+    saa += (ra[i] - mean) * (ra[i] - mean);
+    sbb += (rb[i] - mean) * (rb[i] - mean);
+  }
+  if (!(saa > 0 && sbb > 0)) return std::numeric_limits<double>::quiet_NaN();
+  return sab / std::sqrt(saa * sbb);
+}
+
 }  // namespace
 
 // The normal comes from the 4-neighbours 2 px away (the same neighbours that decide the edge test).
@@ -210,7 +272,7 @@ std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& co
         Eigen::Vector3d normal = dx.cross(dy);
         const double norm = normal.norm();
         normal = norm > 0 ? Eigen::Vector3d(R * normal / norm) : Eigen::Vector3d::Zero();
-        out.push_back({R * CameraPoint(K, x, y, z) + t, normal});
+        out.push_back({R * CameraPoint(K, x, y, z) + t, normal, GrayAt(view, x, y)});
       }
     }
   }
@@ -247,8 +309,13 @@ VerificationResult VerifyRegistration(const Scan& source,
   // samples into the source's views.
   const std::vector<SurfacePoint> moved_source = Moved(source_points, T_target_source);
   std::vector<Evidence> at_estimate;
-  const RenderTally st = Render(moved_source, target, config, &at_estimate);
-  const RenderTally ts = Render(Moved(target_points, T_target_source.inverse()), source, config);
+  std::vector<std::pair<float, float>> gray_pairs;  // (source grey, target grey)
+  const RenderTally st = Render(moved_source, target, config, &at_estimate, &gray_pairs);
+  std::vector<std::pair<float, float>> gray_pairs_back;  // (target grey, source grey)
+  const RenderTally ts = Render(Moved(target_points, T_target_source.inverse()), source, config,
+                                nullptr, &gray_pairs_back);
+  for (const auto& [t, s] : gray_pairs_back) gray_pairs.emplace_back(s, t);
+  v.brightness_rank_correlation = RankCorrelation(gray_pairs);
   const GeometricAgreement g = Summarise(st, ts);
   v.overlap = g.overlap;
   v.overlap_max = g.overlap_max;

@@ -29,6 +29,7 @@ namespace zeroreg {
 struct SurfacePoint {
   Eigen::Vector3d point;
   Eigen::Vector3d normal;  // zero when the neighbourhood gave none
+  float gray = -1.0f;      // grey level (0-255) of the sample's colour pixel; -1 = no colour
 };
 
 // Every config.pixel_stride-th valid depth pixel of every view of `scan`, off depth edges, with a
