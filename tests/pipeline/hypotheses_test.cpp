@@ -613,6 +613,25 @@ TEST(Hypotheses, RealEstimateIsNotValidWhenItsRefinementIsAnotherAcceptedPose) {
       << after.reason;
 }
 
+// Two different rooms: a HoloLens office frame against a redkitchen frame
+// (scripts/bench-negatives.py, cross-scene pairs). The geometry source lines up floors and walls,
+// and the check accepts its pose (overlap 26 %, violations 4 %); where the depth agrees, the two
+// images' brightness does not (rank correlation 0.24). Not valid.
+TEST(Hypotheses, RealGeometryPoseBetweenTwoRoomsNeedsTheImagesToAgree) {
+  const std::string shared = testing::SharedDir() + "/data/";
+  const Scan source = LoadScan(shared + "hololens-office@376");
+  const Scan target = LoadScan(shared + "7scenes-redkitchen@371");
+  PipelineConfig without_rule;
+  without_rule.hypotheses.min_brightness_rank_correlation = -1.0;
+  const RegistrationResult before = Register(source, target, without_rule);
+  EXPECT_TRUE(before.valid && before.path == "geometry clique")
+      << "the pair no longer tests the rule: " << before.path << ", " << before.reason;
+  const RegistrationResult after = Register(source, target, PipelineConfig());
+  EXPECT_FALSE(after.valid) << after.path << ", " << after.reason;
+  EXPECT_NE(after.reason.find("geometry clique: refused: the images disagree"), std::string::npos)
+      << after.reason;
+}
+
 // hypotheses.always: hololens-gap5 162 <- 167 (38 deg, 10 % covisible). The method's estimate is
 // valid and right (8.9 deg / 15 cm; geometry flagged degenerate); the geometry source's pose, 0.9 m
 // off, covers 45 % of the scans and scores higher. Two valid estimates that disagree beyond ICP's

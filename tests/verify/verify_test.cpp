@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <limits>
 #include <vector>
 
@@ -34,8 +35,11 @@ double HitBox(const Box& b, const Eigen::Vector3d& o, const Eigen::Vector3d& d) 
 }
 
 // A one-view scan of `scene` seen from camera pose T_world_camera (x right, y down, z forward),
-// 320x240 pixels times `scale` (same field of view at any scale).
-Scan Render(const std::vector<Box>& scene, const Transform& T_world_camera, int scale = 1) {
+// 320x240 pixels times `scale` (same field of view at any scale). Grey surfaces, or with
+// `patterned` a brightness that varies over the world (the same surface point has the same
+// brightness from every camera).
+Scan Render(const std::vector<Box>& scene, const Transform& T_world_camera, int scale = 1,
+            bool patterned = false) {
   const int width = 320 * scale, height = 240 * scale;
   const double f = 320.0 * scale, cx = (width - 1) / 2.0, cy = (height - 1) / 2.0;
   View v;
@@ -52,6 +56,12 @@ Scan Render(const std::vector<Box>& scene, const Transform& T_world_camera, int 
       double t = std::numeric_limits<double>::infinity();
       for (const Box& b : scene) t = std::min(t, HitBox(b, o, d));
       if (t < 8.0) v.depth.at<float>(y, x) = static_cast<float>(t);  // z = t (ray_camera.z = 1)
+      if (patterned && t < 8.0) {
+        const Eigen::Vector3d w = o + t * d;
+        const double level =
+            128.0 + 100.0 * std::sin(3.0 * (w.x() + w.z())) * std::cos(2.0 * w.y());
+        v.color.at<cv::Vec3b>(y, x) = cv::Vec3b::all(static_cast<unsigned char>(level));
+      }
     }
   }
   Scan s;
@@ -108,6 +118,29 @@ TEST(Verify, CorrectTransformPasses) {
   // millimetres to a centimetre off.
   EXPECT_LT(v.residual_rms_m, 0.015);
   EXPECT_FALSE(v.degenerate) << v.reason;
+}
+
+// Where the depth agrees, the images agree too under the right transform (same surface points),
+// in the order of their brightness whatever the exposure: rank correlation near 1; with one image's
+// brightness reversed, near -1; on uniformly grey surfaces there is no order to compare (NaN).
+TEST(Verify, BrightnessRankCorrelationAtTheAgreeingSamples) {
+  const Transform P_target = Pose(0, {0, 0, 0}), P_source = Pose(12, {0.3, 0.0, 0.4});
+  const Transform T = P_target.inverse() * P_source;
+  const Scan source = Render(Room(), P_source, 1, true), target = Render(Room(), P_target, 1, true);
+  const VerificationResult right = VerifyRegistration(source, target, T, VerifyConfig());
+  ASSERT_TRUE(right.passed) << right.reason;
+  EXPECT_GT(right.brightness_rank_correlation, 0.9);
+  Scan darker = target;  // another exposure: the order of brightness stays
+  darker.views[0].color = target.views[0].color * 0.5;
+  EXPECT_GT(VerifyRegistration(source, darker, T, VerifyConfig()).brightness_rank_correlation, 0.9);
+  Scan reversed = target;
+  cv::subtract(cv::Scalar::all(255), target.views[0].color, reversed.views[0].color);
+  EXPECT_LT(VerifyRegistration(source, reversed, T, VerifyConfig()).brightness_rank_correlation,
+            -0.9);
+  const Pair grey = MakePair(Room());
+  EXPECT_TRUE(
+      std::isnan(VerifyRegistration(grey.source, grey.target, grey.T_target_source, VerifyConfig())
+                     .brightness_rank_correlation));
 }
 
 // The dangerous case of issue 10: a transform that keeps the floor aligned (here: turned 35 deg
