@@ -191,8 +191,11 @@ def main():
                 print(f"{ss}@{sf} -> {ts}@{tf}: {e}", file=sys.stderr)
                 continue
             seconds = time.perf_counter() - start
+            verification = r.to_dict().get("verification", {})
             rec = {"kind": kind, "target": f"{ts}@{tf}", "source": f"{ss}@{sf}",
                    "covisibility": round(c, 4), "valid": bool(r.valid), "path": r.path,
+                   "overlap": verification.get("overlap"),
+                   "brightness_rank_correlation": verification.get("brightness_rank_correlation"),
                    "reason": r.reason, "time_ms": round(1000 * seconds, 1)}
             if ss == ts:
                 gt = np.linalg.inv(scan(ts, tf).T_world_scan_gt) @ scan(ss, sf).T_world_scan_gt
