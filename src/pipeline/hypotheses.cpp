@@ -213,6 +213,8 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   const HypothesesConfig& h = config.hypotheses;
   const PipelineConfig extra = ExtraSourceConfig(config);
   std::vector<RegistrationResult> tried;
+  // Parallel to `tried`: why judge_extra refused a result the check passed ("" = it did not).
+  std::vector<std::string> refused;
   // Every extra source's result passes through here (HypothesesConfig::refuse_degenerate).
   // `without_images`: the source's correspondences come from no image (geometry, centroids), so
   // the images must agree where the depth does (min_brightness_rank_correlation).
@@ -221,8 +223,10 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
                          bool without_images = false) {
     RegistrationResult r =
         (judge_with ? judge_with : judge)(path, std::move(correspondences), effective);
+    std::string why;
     if (h.refuse_degenerate && r.valid && r.verification.degenerate) {
       r.valid = false;
+      why = "refused: degenerate geometry";
       r.reason +=
           "; refused: the geometry is degenerate and this source's correspondences are "
           "too weak to fix the open motion";
@@ -231,6 +235,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     if (without_images && r.valid && std::isfinite(rho) &&
         rho < h.min_brightness_rank_correlation) {
       r.valid = false;
+      why = "refused: the images disagree where the depth agrees";
       char note[200];
       std::snprintf(note, sizeof(note),
                     "; refused: the images disagree where the depth agrees (rank correlation of "
@@ -238,6 +243,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
                     rho, h.min_brightness_rank_correlation);
       r.reason += note;
     }
+    refused.push_back(why);
     return r;
   };
   timer.Restart();
@@ -297,29 +303,25 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   }
   std::vector<CandidateSummary> all = result->candidates;
   std::string summary;
-  // Why a result the check passed is not valid: an extra source's estimate in degenerate
-  // geometry (refuse_degenerate), or one whose refinement is another accepted pose (Refine).
-  auto describe = [&h](const RegistrationResult& r) {
-    const double rho = r.verification.brightness_rank_correlation;
-    const char* not_valid = h.refuse_degenerate && r.verification.degenerate
-                                ? "refused: degenerate geometry"
-                            : std::isfinite(rho) && rho < h.min_brightness_rank_correlation &&
-                                    r.reason.find("the images disagree") != std::string::npos
-                                ? "refused: the images disagree where the depth agrees"
-                                : "not valid: another pose passes the check as well";
+  // `refusal`: why judge_extra refused it; otherwise a result the check passed that is not valid
+  // is one whose refinement is another accepted pose (Refine).
+  auto describe = [](const RegistrationResult& r, const std::string& refusal) {
+    const char* verdict = r.valid                ? "valid"
+                          : !r.count_test_passed ? "no consensus"
+                          : !refusal.empty()     ? refusal.c_str()
+                          : r.verification.passed
+                              ? "not valid: another pose passes the check as well"
+                              : "refused by the check";
     char line[200];
-    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(),
-                  r.valid                 ? "valid"
-                  : !r.count_test_passed  ? "no consensus"
-                  : r.verification.passed ? not_valid
-                                          : "refused by the check",
+    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(), verdict,
                   r.verification.score);
     return std::string(line);
   };
-  summary += describe(*result);
-  for (const RegistrationResult& r : tried) {
+  summary += describe(*result, "");
+  for (size_t k = 0; k < tried.size(); ++k) {
+    const RegistrationResult& r = tried[k];
     all.insert(all.end(), r.candidates.begin(), r.candidates.end());
-    summary += "; " + describe(r);
+    summary += "; " + describe(r, refused[k]);
   }
   if (best >= 0) Adopt(std::move(tried[static_cast<size_t>(best)]), result);
   result->candidates = std::move(all);
