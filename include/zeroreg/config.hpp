@@ -566,6 +566,16 @@ struct HypothesesConfig {
   // correspondence (not only the matched pairs, so a swapped match of two chairs still leaves the
   // right pairs in), estimated by `estimator` at method.object_centroid_threshold_m.
   bool objects = true;
+  // (e) when neither the method nor (a)-(d) gives a valid result: the whole-image correspondences
+  // again with the source's colour images turned by a quarter, a half and three quarters turn
+  // (keypoints mapped back to the unturned pixels), in that order until one is valid. XFeat's
+  // descriptors are not invariant to the camera rolling about its axis, so a view taken in
+  // portrait and one in landscape (a phone held either way; ARKit gives frames in the sensor's
+  // orientation) or upside down share few whole-image matches. Measured on 4 pairs of every list
+  // with one scan's images turned (twenty-fourth session, BENCHMARKS.md "Turned cameras"): see
+  // there. Costs three feature extractions of the source and three matchings, only on pairs no
+  // other source registers.
+  bool turned_images = true;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
   // "ransac" here gave three valid-but-wrong results on HoloLens (geometry source, 12-18

@@ -281,6 +281,21 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
       timer.Mark("hypothesis object-pairs");
     }
   }
+  // (e) The whole images with the source's turned, only when nothing above is valid: a camera
+  // rolled by a quarter or half turn leaves XFeat few right matches, and every other source has
+  // had its chance. The turns are tried in a fixed order and stop at the first valid result.
+  const auto any_valid = [&] {
+    return result->valid || std::any_of(tried.begin(), tried.end(),
+                                        [](const RegistrationResult& r) { return r.valid; });
+  };
+  if (h.turned_images && inputs.whole_image_turned && !any_valid()) {
+    for (int quarter_turns = 1; quarter_turns <= 3 && !any_valid(); ++quarter_turns) {
+      tried.push_back(judge_extra("image-turned-" + std::to_string(90 * quarter_turns) + " " +
+                                      h.estimator,
+                                  inputs.whole_image_turned(quarter_turns), extra));
+      timer.Mark("hypothesis turned images");
+    }
+  }
 
   // The judge: the best of the method's result and every hypothesis. Only a valid hypothesis
   // replaces the method's result: among invalid ones the score says little (redkitchen-cross

@@ -6,6 +6,7 @@
 //   (b) the whole-image correspondences, with the low-inlier estimator,
 //   (c) the scans' geometry: FPFH on the depth clouds, mutual nearest neighbours in feature space,
 //   (d) object centroids: every same-label object pair of the two scans,
+//   (e) when nothing else is valid, (b) with the source's images turned by 90, 180 and 270 deg,
 // each estimated, checked by the geometric verification and refined as the method's own estimate
 // is, with what the refinement must keep of the estimate's evidence on top
 // (hypotheses.refine_keeps_evidence; register.cpp supplies both as JudgeFns). The best verified
@@ -35,6 +36,10 @@ struct HypothesisInputs {
   std::vector<Correspondence> object_correspondences;  // (a); empty on the image path
   // (b): computes (or returns the cached) whole-image correspondences; null when unavailable.
   std::function<std::vector<Correspondence>()> whole_image;
+  // (e): the whole-image correspondences with the source's views' features extracted from their
+  // colour images turned clockwise by 1-3 quarter turns (ExtractLiftedFeatures); null when
+  // unavailable.
+  std::function<std::vector<Correspondence>(int quarter_turns)> whole_image_turned;
   // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
   bool whole_image_tried = false;
   // The source scan's surface samples (the check's, in its frame; owned by its prepared scan),

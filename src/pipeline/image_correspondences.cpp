@@ -3,13 +3,48 @@
 #include <algorithm>
 #include <utility>
 
+#include <opencv2/core.hpp>
+
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
 
+namespace {
+
+// Pixel (x, y) of the image turned clockwise by `quarter_turns` quarter turns, in the pixels of the
+// unturned image (width w, height h; pixel centres at integers, as cv::rotate moves them).
+Eigen::Vector2f UnturnPixel(const Eigen::Vector2f& p, int quarter_turns, int w, int h) {
+  switch (quarter_turns) {
+    case 1:  // ROTATE_90_CLOCKWISE: turned (x, y) shows unturned (y, h - 1 - x)
+      return {p.y(), static_cast<float>(h - 1) - p.x()};
+    case 2:  // ROTATE_180
+      return {static_cast<float>(w - 1) - p.x(), static_cast<float>(h - 1) - p.y()};
+    case 3:  // ROTATE_90_COUNTERCLOCKWISE: turned (x, y) shows unturned (w - 1 - y, x)
+      return {static_cast<float>(w - 1) - p.y(), p.x()};
+    default:
+      return p;
+  }
+}
+
+ImageFeatures ExtractTurned(const FeatureExtractor& extractor, const cv::Mat& bgr,
+                            int quarter_turns) {
+  if (quarter_turns % 4 == 0) return extractor.Extract(bgr);
+  static constexpr cv::RotateFlags kTurn[] = {cv::ROTATE_90_CLOCKWISE, cv::ROTATE_180,
+                                              cv::ROTATE_90_COUNTERCLOCKWISE};
+  cv::Mat turned;
+  cv::rotate(bgr, turned, kTurn[quarter_turns % 4 - 1]);
+  ImageFeatures features = extractor.Extract(turned);
+  for (Eigen::Vector2f& k : features.keypoints) {
+    k = UnturnPixel(k, quarter_turns % 4, bgr.cols, bgr.rows);
+  }
+  return features;
+}
+
+}  // namespace
+
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
-                                     const LiftConfig& lift) {
-  const ImageFeatures all = extractor.Extract(view.color);
+                                     const LiftConfig& lift, int quarter_turns) {
+  const ImageFeatures all = ExtractTurned(extractor, view.color, quarter_turns);
   // Keypoints without usable depth cannot give a 3D correspondence; dropping them before matching
   // also keeps them from stealing a mutual nearest neighbour from a usable keypoint.
   std::vector<int> keep;

@@ -15,8 +15,14 @@ struct LiftedFeatures {
   ImageFeatures features;
   std::vector<Eigen::Vector3d> points;  // scan frame, parallel to features.keypoints
 };
+// With `quarter_turns` (1-3) the features are extracted from the colour image turned clockwise by
+// that many quarter turns, and their keypoints mapped back to the view's own pixels, so the 3D
+// points are the same as unturned. XFeat's descriptors are not invariant to the camera rolling
+// about its axis: a view taken in portrait and one in landscape (a phone, ARKit's frames) or one
+// upside down share almost no matches unless one of them is turned back
+// (hypotheses.turned_images).
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
-                                     const LiftConfig& lift);
+                                     const LiftConfig& lift, int quarter_turns = 0);
 
 // Usable keypoints over all the views (what the result reports as keypoints_source/target).
 int CountKeypoints(const std::vector<LiftedFeatures>& views);

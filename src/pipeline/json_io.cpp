@@ -233,6 +233,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("image", c.image);
   v("geometry", c.geometry);
   v("objects", c.objects);
+  v("turned_images", c.turned_images);
   v("estimator", c.estimator);
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());

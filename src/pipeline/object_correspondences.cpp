@@ -177,6 +177,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
         noise_needed ? MeasureDepthNoiseAt1m(view).value_or(0.0) : 0.0;
     const LiftConfig lift = LiftForView(config_.lift, depth_noise_at_1m_m);
     out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift));
+    out.view_lifts.push_back(lift);
     timer.Mark("features");
     // Either detections segmented one by one (§3.2), or, without detection, class-agnostic
     // depth regions that come with their masks.
