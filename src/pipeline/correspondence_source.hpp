@@ -24,8 +24,8 @@ namespace zeroreg {
 struct PerceivedScan {
   std::vector<LiftedFeatures> view_features;  // per view, keypoints with usable depth
   std::vector<LiftConfig> view_lifts;  // per view, how its keypoints were lifted (LiftForView)
-  int num_keypoints = 0;                      // CountKeypoints(view_features)
-  SceneObjects objects;                       // object sources only (§3.2)
+  int num_keypoints = 0;               // CountKeypoints(view_features)
+  SceneObjects objects;                // object sources only (§3.2)
   // Per observation of `objects`: the rows of its view's features whose keypoint lies inside its
   // mask (the candidates of §3.4's point matching).
   std::vector<std::vector<int>> observation_rows;

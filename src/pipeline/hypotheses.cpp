@@ -284,15 +284,21 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // (e) The whole images with the source's turned, only when nothing above is valid: a camera
   // rolled by a quarter or half turn leaves XFeat few right matches, and every other source has
   // had its chance. The turns are tried in a fixed order and stop at the first valid result.
+  // Turned the right way, these are the fallback's own correspondences, so they are judged as the
+  // method judges its fallback: its estimator and count test (an inlier ratio, which a turn that
+  // matched by chance does not reach), and valid in degenerate geometry, where the image
+  // correspondences fix the open motion (hololens-gap1 3 <- 4 with the source upside down: a wall,
+  // 0.3 deg off).
   const auto any_valid = [&] {
     return result->valid || std::any_of(tried.begin(), tried.end(),
                                         [](const RegistrationResult& r) { return r.valid; });
   };
   if (h.turned_images && inputs.whole_image_turned && !any_valid()) {
     for (int quarter_turns = 1; quarter_turns <= 3 && !any_valid(); ++quarter_turns) {
-      tried.push_back(judge_extra("image-turned-" + std::to_string(90 * quarter_turns) + " " +
-                                      h.estimator,
-                                  inputs.whole_image_turned(quarter_turns), extra));
+      tried.push_back(judge(
+          "image-turned-" + std::to_string(90 * quarter_turns) + " " + config.ransac.estimator,
+          inputs.whole_image_turned(quarter_turns), config));
+      refused.emplace_back();
       timer.Mark("hypothesis turned images");
     }
   }

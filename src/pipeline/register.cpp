@@ -572,8 +572,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   }
   // (e): the same whole-image matching with the source's images turned (hypotheses.turned_images).
   const PerceivedScan& perceived_source = *source.perceived;
-  if (extractor && matcher &&
-      perceived_source.view_lifts.size() == source.scan.views.size()) {
+  if (extractor && matcher && perceived_source.view_lifts.size() == source.scan.views.size()) {
     more.whole_image_turned = [&](int quarter_turns) {
       std::vector<LiftedFeatures> turned;
       for (size_t v = 0; v < source.scan.views.size(); ++v) {

@@ -1,0 +1,135 @@
+// hypotheses.turned_images: features of a view's colour image turned by quarter turns, their
+// keypoints mapped back to the view's own pixels (exact, on a synthetic image and on a real frame),
+// and a real pair with one camera upside down that only the turned images register.
+#include <gtest/gtest.h>
+
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "detect/perception_test_util.hpp"
+#include "estimate/lift.hpp"
+#include "eval/metrics.hpp"
+#include "features/feature_extractor.hpp"
+#include "pipeline/image_correspondences.hpp"
+#include "test_paths.hpp"
+#include "zeroreg/io.hpp"
+#include "zeroreg/register.hpp"
+
+namespace zeroreg {
+namespace {
+
+// One keypoint: the brightest pixel (first in row-major order), with a descriptor that says
+// nothing. Enough to see where a keypoint found in a turned image lands in the unturned one.
+class BrightestPixel : public FeatureExtractor {
+ public:
+  std::string name() const override { return "brightest-pixel"; }
+  ImageFeatures Extract(const cv::Mat& bgr) const override {
+    cv::Mat grey;
+    cv::extractChannel(bgr, grey, 0);
+    cv::Point at;
+    cv::minMaxLoc(grey, nullptr, nullptr, nullptr, &at);
+    ImageFeatures f;
+    f.keypoints.emplace_back(static_cast<float>(at.x), static_cast<float>(at.y));
+    f.scores.push_back(1.0f);
+    f.descriptors = Eigen::MatrixXf::Ones(1, 8) / std::sqrt(8.0f);
+    return f;
+  }
+};
+
+// The same view with its camera rolled by a quarter turn: images turned clockwise, intrinsics to
+// match, and T_scan_camera such that every pixel lifts to the same point of the scan frame (the
+// scan's ground truth stays valid). Turned (x', y') shows unturned (y', h - 1 - x'), so a camera
+// point (X, Y, Z) is (-Y, X, Z) in the turned camera.
+View TurnedQuarterClockwise(const View& view) {
+  View out = view;
+  cv::rotate(view.color, out.color, cv::ROTATE_90_CLOCKWISE);
+  cv::rotate(view.depth, out.depth, cv::ROTATE_90_CLOCKWISE);
+  const Intrinsics& k = view.intrinsics;
+  out.intrinsics = {k.fy, k.fx, k.height - 1 - k.cy, k.cx, k.height, k.width};
+  Transform turned_from_camera = Transform::Identity();
+  turned_from_camera.topLeftCorner<3, 3>() << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+  out.T_scan_camera = view.T_scan_camera * turned_from_camera.inverse();
+  return out;
+}
+
+TEST(TurnedImages, KeypointsOfEveryTurnLandOnTheUnturnedPixel) {
+  View view;
+  view.color = cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(0));
+  view.color.at<cv::Vec3b>(11, 37) = cv::Vec3b(255, 255, 255);  // (x, y) = (37, 11)
+  view.depth = cv::Mat(48, 64, CV_32FC1, cv::Scalar(2.0f));
+  view.intrinsics = {60.0, 60.0, 31.5, 23.5, 64, 48};
+  const BrightestPixel extractor;
+  const LiftConfig lift;
+  const LiftedFeatures unturned = ExtractLiftedFeatures(extractor, view, lift);
+  ASSERT_EQ(unturned.features.size(), 1);
+  for (int quarter_turns = 1; quarter_turns <= 3; ++quarter_turns) {
+    const LiftedFeatures turned = ExtractLiftedFeatures(extractor, view, lift, quarter_turns);
+    ASSERT_EQ(turned.features.size(), 1) << quarter_turns;
+    EXPECT_EQ(turned.features.keypoints[0], Eigen::Vector2f(37.0f, 11.0f)) << quarter_turns;
+    EXPECT_LT((turned.points[0] - unturned.points[0]).norm(), 1e-12) << quarter_turns;
+  }
+}
+
+// A real frame and its copy with the camera rolled: extracting the copy's features three quarter
+// turns further sees exactly the original image, so keypoints, descriptors and 3D points must be
+// the original's, with the keypoints at the copy's own pixels.
+TEST(TurnedImages, RealFrameTurnedBackGivesTheFramesOwnFeaturesAndPoints) {
+  const Scan scan = LoadScan(testing::RedkitchenDir() + "@0");
+  const View& view = scan.views[0];
+  const View rolled = TurnedQuarterClockwise(view);
+  PipelineConfig config;
+  const std::unique_ptr<FeatureExtractor> xfeat =
+      MakeFeatureExtractor(config.features, perception_test::AssetsDir(), config.inference);
+  const LiftConfig lift = LiftForView(config.lift, view);
+  const LiftedFeatures original = ExtractLiftedFeatures(*xfeat, view, lift);
+  const LiftedFeatures back = ExtractLiftedFeatures(*xfeat, rolled, lift, 3);
+  ASSERT_GT(original.features.size(), 1000);
+  ASSERT_EQ(back.features.size(), original.features.size());
+  EXPECT_EQ(back.features.descriptors, original.features.descriptors);
+  double worst_m = 0.0;
+  for (int i = 0; i < original.features.size(); ++i) {
+    const Eigen::Vector2f& k = original.features.keypoints[static_cast<size_t>(i)];
+    const Eigen::Vector2f in_rolled(static_cast<float>(view.depth.rows - 1) - k.y(), k.x());
+    EXPECT_EQ(back.features.keypoints[static_cast<size_t>(i)], in_rolled) << i;
+    worst_m = std::max(
+        worst_m,
+        (back.points[static_cast<size_t>(i)] - original.points[static_cast<size_t>(i)]).norm());
+  }
+  EXPECT_LT(worst_m, 1e-9);
+}
+
+// hololens-gap1 3 <- 4, consecutive frames of a wall, with the source camera upside down. The
+// whole-image matches of the unturned images are too few and the geometry source is refused on
+// the degenerate wall; with the source's images turned by a half turn the pair registers.
+TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office@";
+  Scan source = LoadScan(dir + "4");
+  const Scan target = LoadScan(dir + "3");
+  const Transform gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
+  source.views[0] = TurnedQuarterClockwise(TurnedQuarterClockwise(source.views[0]));
+
+  PipelineConfig without;
+  without.hypotheses.turned_images = false;
+  const RegistrationResult before = Register(source, target, without);
+  EXPECT_FALSE(before.valid) << "the pair no longer tests the rule: " << before.reason;
+
+  const RegistrationResult after = Register(source, target, PipelineConfig());
+  ASSERT_TRUE(after.valid) << after.reason;
+  EXPECT_EQ(after.path, "image-turned-180 ransac");
+  EXPECT_LT(RotationErrorDeg(after.T_target_source, gt), 1.0);
+  EXPECT_LT(TranslationErrorM(after.T_target_source, gt), 0.03);
+  // The turns are tried in order and stop at the first valid one: 90 then 180, not 270.
+  EXPECT_NE(after.reason.find("image-turned-90 ransac"), std::string::npos) << after.reason;
+  EXPECT_EQ(after.reason.find("image-turned-270"), std::string::npos) << after.reason;
+}
+
+// Unturned, the same pair registers without them: the turns run only when nothing else is valid.
+TEST(TurnedImages, NotTriedWhenThePairRegistersUnturned) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office@";
+  const RegistrationResult r = Register(LoadScan(dir + "4"), LoadScan(dir + "3"), PipelineConfig());
+  ASSERT_TRUE(r.valid) << r.reason;
+  EXPECT_EQ(r.reason.find("image-turned"), std::string::npos) << r.reason;
+}
+
+}  // namespace
+}  // namespace zeroreg
