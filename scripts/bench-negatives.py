@@ -37,6 +37,7 @@ import numpy as np
 
 sys.path.insert(0, os.environ.get("ZEROREG_PYTHONPATH", "build/python"))
 import zeroreg  # noqa: E402
+from bench_common import parse_sets  # noqa: E402
 
 SCENES = ["7scenes-redkitchen", "hololens-office", "tum-fr3-cabinet"]
 
@@ -90,24 +91,6 @@ def covisibility(scan_a, scan_b):
     both = (seen_fraction(pa, T_b_a, scan_b.views[0]),
             seen_fraction(pb, np.linalg.inv(T_b_a), scan_a.views[0]))
     return min(both), max(both)
-
-
-def parse_sets(items):
-    config = {}
-    for item in items:
-        key, _, value = item.partition("=")
-        if not value:
-            sys.exit(f"--set {item!r}: expected section.key=value")
-        try:
-            parsed = json.loads(value)
-        except json.JSONDecodeError:
-            parsed = value
-        node = config
-        parts = key.split(".")
-        for part in parts[:-1]:
-            node = node.setdefault(part, {})
-        node[parts[-1]] = parsed
-    return config
 
 
 def main():

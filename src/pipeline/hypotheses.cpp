@@ -283,24 +283,32 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   }
   // (e) The whole images with the source's turned, only when nothing above is valid: a camera
   // rolled by a quarter or half turn leaves XFeat few right matches, and every other source has
-  // had its chance. The turns are tried in a fixed order and stop at the first valid result.
+  // had its chance. Only the turn that shares the most distinctive matches with the target is
+  // matched and judged (MatchTurnedWholeImages), and none when the unturned images share as many.
   // Turned the right way, these are the fallback's own correspondences, so they are judged as the
   // method judges its fallback: its estimator and count test (an inlier ratio, which a turn that
   // matched by chance does not reach), and valid in degenerate geometry, where the image
   // correspondences fix the open motion (hololens-gap1 3 <- 4 with the source upside down: a wall,
   // 0.3 deg off).
-  const auto any_valid = [&] {
-    return result->valid || std::any_of(tried.begin(), tried.end(),
-                                        [](const RegistrationResult& r) { return r.valid; });
-  };
-  if (h.turned_images && inputs.whole_image_turned && !any_valid()) {
-    for (int quarter_turns = 1; quarter_turns <= 3 && !any_valid(); ++quarter_turns) {
-      tried.push_back(judge(
-          "image-turned-" + std::to_string(90 * quarter_turns) + " " + config.ransac.estimator,
-          inputs.whole_image_turned(quarter_turns), config));
+  const bool any_valid =
+      result->valid ||
+      std::any_of(tried.begin(), tried.end(), [](const RegistrationResult& r) { return r.valid; });
+  std::string turned_scores;
+  if (h.turned_images && inputs.whole_image_turned && !any_valid) {
+    TurnedWholeImage turned = inputs.whole_image_turned();
+    const std::array<int, 4>& o = turned.overlap_scores;
+    turned_scores = "image-turned: distinctive matches at 0/90/180/270 deg " +
+                    std::to_string(o[0]) + "/" + std::to_string(o[1]) + "/" + std::to_string(o[2]) +
+                    "/" + std::to_string(o[3]);
+    if (turned.quarter_turns > 0) {
+      tried.push_back(judge("image-turned-" + std::to_string(90 * turned.quarter_turns) + " " +
+                                config.ransac.estimator,
+                            std::move(turned.correspondences), config));
       refused.emplace_back();
-      timer.Mark("hypothesis turned images");
+    } else {
+      turned_scores += ", no turn above the unturned images";
     }
+    timer.Mark("hypothesis turned images");
   }
 
   // The judge: the best of the method's result and every hypothesis. Only a valid hypothesis
@@ -344,6 +352,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
     all.insert(all.end(), r.candidates.begin(), r.candidates.end());
     summary += "; " + describe(r, refused[k]);
   }
+  if (!turned_scores.empty()) summary += "; " + turned_scores;
   if (best >= 0) Adopt(std::move(tried[static_cast<size_t>(best)]), result);
   result->candidates = std::move(all);
   if (disagreeing > 0) {

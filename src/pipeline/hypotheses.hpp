@@ -6,7 +6,8 @@
 //   (b) the whole-image correspondences, with the low-inlier estimator,
 //   (c) the scans' geometry: FPFH on the depth clouds, mutual nearest neighbours in feature space,
 //   (d) object centroids: every same-label object pair of the two scans,
-//   (e) when nothing else is valid, (b) with the source's images turned by 90, 180 and 270 deg,
+//   (e) when nothing else is valid, (b) with the source's images turned by the quarter turn that
+//       matches the target's best (a camera rolled by 90, 180 or 270 deg),
 // each estimated, checked by the geometric verification and refined as the method's own estimate
 // is, with what the refinement must keep of the estimate's evidence on top
 // (hypotheses.refine_keeps_evidence; register.cpp supplies both as JudgeFns). The best verified
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/image_correspondences.hpp"
 #include "pipeline/stage_timer.hpp"
 #include "verify/verify.hpp"
 #include "zeroreg/config.hpp"
@@ -36,10 +38,9 @@ struct HypothesisInputs {
   std::vector<Correspondence> object_correspondences;  // (a); empty on the image path
   // (b): computes (or returns the cached) whole-image correspondences; null when unavailable.
   std::function<std::vector<Correspondence>()> whole_image;
-  // (e): the whole-image correspondences with the source's views' features extracted from their
-  // colour images turned clockwise by 1-3 quarter turns (ExtractLiftedFeatures); null when
-  // unavailable.
-  std::function<std::vector<Correspondence>(int quarter_turns)> whole_image_turned;
+  // (e): MatchTurnedWholeImages (the source's images turned by the quarter turn that shares the
+  // most distinctive matches with the target); null when unavailable.
+  std::function<TurnedWholeImage()> whole_image_turned;
   // The whole-image correspondences were already estimated with ransac.estimator (the fallback).
   bool whole_image_tried = false;
   // The source scan's surface samples (the check's, in its frame; owned by its prepared scan),

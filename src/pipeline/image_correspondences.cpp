@@ -166,4 +166,46 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
   }
 }
 
+namespace {
+
+// Summed ViewOverlapScore over the view pairs `choice` allows (all, or view i with view i).
+int SummedOverlapScore(const std::vector<LiftedFeatures>& source,
+                       const std::vector<LiftedFeatures>& target,
+                       const WholeImageViewPairs& choice) {
+  int sum = 0;
+  for (size_t vs = 0; vs < source.size(); ++vs) {
+    for (size_t vt = 0; vt < target.size(); ++vt) {
+      if (choice.all || vs == vt) sum += ViewOverlapScore(source[vs], target[vt]);
+    }
+  }
+  return sum;
+}
+
+}  // namespace
+
+TurnedWholeImage MatchTurnedWholeImages(const FeatureExtractor& extractor, const Scan& source,
+                                        const std::vector<LiftConfig>& source_lifts,
+                                        const std::vector<LiftedFeatures>& source_features,
+                                        const std::vector<LiftedFeatures>& target_features,
+                                        const DescriptorMatcher& matcher,
+                                        const WholeImageViewPairs& view_pairs, int threads) {
+  TurnedWholeImage out;
+  std::array<std::vector<LiftedFeatures>, 4> turned;
+  out.overlap_scores[0] = SummedOverlapScore(source_features, target_features, view_pairs);
+  for (int q = 1; q <= 3; ++q) {
+    for (size_t v = 0; v < source.views.size(); ++v) {
+      turned[q].push_back(ExtractLiftedFeatures(extractor, source.views[v], source_lifts[v], q));
+    }
+    out.overlap_scores[q] = SummedOverlapScore(turned[q], target_features, view_pairs);
+  }
+  for (int q = 1; q <= 3; ++q) {  // ties to the smaller turn
+    if (out.overlap_scores[q] > out.overlap_scores[out.quarter_turns]) out.quarter_turns = q;
+  }
+  if (out.quarter_turns > 0) {
+    MatchWholeImages(turned[out.quarter_turns], target_features, matcher, view_pairs, threads,
+                     &out.correspondences);
+  }
+  return out;
+}
+
 }  // namespace zeroreg

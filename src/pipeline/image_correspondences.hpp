@@ -4,6 +4,8 @@
 // fallback when objects find too little.
 #pragma once
 
+#include <array>
+
 #include "estimate/lift.hpp"
 #include "features/feature_extractor.hpp"
 #include "point_match/descriptor_matcher.hpp"
@@ -59,5 +61,23 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const std::vector<LiftedFeatures>& target, const DescriptorMatcher& matcher,
                       const WholeImageViewPairs& view_pairs, int threads,
                       std::vector<Correspondence>* out);
+
+// Source (e) of the hypotheses (hypotheses.turned_images): the source's views' features extracted
+// from their colour images turned by 1, 2 and 3 quarter turns, each turn scored by its summed
+// ViewOverlapScore against the target's views (the view pairs `view_pairs` allows, before its
+// max_pairs cut), and only the best-scoring turn matched (MatchWholeImages), provided it scores
+// above the unturned images: a roll of the camera shows as one turn with far more distinctive
+// matches than the others; matching every turn cost 3x as much on pairs without common surface.
+struct TurnedWholeImage {
+  int quarter_turns = 0;                // the turn matched; 0: no turn scores above the unturned
+  std::array<int, 4> overlap_scores{};  // per turn 0-3 (0 = unturned)
+  std::vector<Correspondence> correspondences;  // the matched turn's; empty for 0
+};
+TurnedWholeImage MatchTurnedWholeImages(const FeatureExtractor& extractor, const Scan& source,
+                                        const std::vector<LiftConfig>& source_lifts,
+                                        const std::vector<LiftedFeatures>& source_features,
+                                        const std::vector<LiftedFeatures>& target_features,
+                                        const DescriptorMatcher& matcher,
+                                        const WholeImageViewPairs& view_pairs, int threads);
 
 }  // namespace zeroreg

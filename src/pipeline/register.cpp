@@ -570,21 +570,15 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
       return whole_image_cache;
     };
   }
-  // (e): the same whole-image matching with the source's images turned (hypotheses.turned_images).
-  const PerceivedScan& perceived_source = *source.perceived;
-  if (extractor && matcher && perceived_source.view_lifts.size() == source.scan.views.size()) {
-    more.whole_image_turned = [&](int quarter_turns) {
-      std::vector<LiftedFeatures> turned;
-      for (size_t v = 0; v < source.scan.views.size(); ++v) {
-        turned.push_back(ExtractLiftedFeatures(*extractor, source.scan.views[v],
-                                               perceived_source.view_lifts[v], quarter_turns));
-      }
-      std::vector<Correspondence> out;
-      MatchWholeImages(turned, target.perceived->view_features, *matcher,
-                       WholeImageViewPairs{config.method.whole_image_all_view_pairs,
-                                           config.method.whole_image_max_view_pairs},
-                       config.threads, &out);
-      return out;
+  // (e): the whole-image matching with the source's images turned (hypotheses.turned_images).
+  if (extractor && matcher && source.perceived->view_lifts.size() == source.scan.views.size()) {
+    more.whole_image_turned = [&]() {
+      return MatchTurnedWholeImages(*extractor, source.scan, source.perceived->view_lifts,
+                                    source.perceived->view_features,
+                                    target.perceived->view_features, *matcher,
+                                    WholeImageViewPairs{config.method.whole_image_all_view_pairs,
+                                                        config.method.whole_image_max_view_pairs},
+                                    config.threads);
     };
   }
   Estimate(std::move(found.correspondences), effective, &result);

@@ -118,9 +118,12 @@ TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) 
   EXPECT_EQ(after.path, "image-turned-180 ransac");
   EXPECT_LT(RotationErrorDeg(after.T_target_source, gt), 1.0);
   EXPECT_LT(TranslationErrorM(after.T_target_source, gt), 0.03);
-  // The turns are tried in order and stop at the first valid one: 90 then 180, not 270.
-  EXPECT_NE(after.reason.find("image-turned-90 ransac"), std::string::npos) << after.reason;
-  EXPECT_EQ(after.reason.find("image-turned-270"), std::string::npos) << after.reason;
+  // Only the turn with the most distinctive matches is matched and judged.
+  EXPECT_NE(after.reason.find("image-turned: distinctive matches at 0/90/180/270 deg"),
+            std::string::npos)
+      << after.reason;
+  EXPECT_EQ(after.reason.find("image-turned-90 "), std::string::npos) << after.reason;
+  EXPECT_EQ(after.reason.find("image-turned-270 "), std::string::npos) << after.reason;
 }
 
 // Unturned, the same pair registers without them: the turns run only when nothing else is valid.
