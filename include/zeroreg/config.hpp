@@ -567,14 +567,15 @@ struct HypothesesConfig {
   // right pairs in), estimated by `estimator` at method.object_centroid_threshold_m.
   bool objects = true;
   // (e) when neither the method nor (a)-(d) gives a valid result: the whole-image correspondences
-  // again with the source's colour images turned by a quarter, a half and three quarters turn
-  // (keypoints mapped back to the unturned pixels), in that order until one is valid. XFeat's
-  // descriptors are not invariant to the camera rolling about its axis, so a view taken in
-  // portrait and one in landscape (a phone held either way; ARKit gives frames in the sensor's
-  // orientation) or upside down share few whole-image matches. Measured on 4 pairs of every list
-  // with one scan's images turned (twenty-fourth session, BENCHMARKS.md "Turned cameras"): see
-  // there. Costs three feature extractions of the source and three matchings, only on pairs no
-  // other source registers.
+  // again with the source's colour images turned by the quarter turn (90, 180 or 270 deg) whose
+  // features share the most distinctive matches with the target's (none when the unturned images
+  // share as many), keypoints mapped back to the unturned pixels, judged as the method's fallback
+  // is. XFeat's descriptors are not invariant to the camera rolling about its axis, so a view
+  // taken in portrait and one in landscape (a phone held either way; ARKit gives frames in the
+  // sensor's orientation) or upside down share few whole-image matches. scripts/
+  // bench-conditions.py, 4 pairs of every list with the source camera rolled (BENCHMARKS.md
+  // "Turned cameras and other capture conditions"). Costs three feature extractions of the
+  // source, four overlap scores and at most one matching, only on pairs no other source registers.
   bool turned_images = true;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
