@@ -13,6 +13,8 @@ verdicts against the ground truth (right = RE < 15 deg and TE < 30 cm, the suite
   source-turned-90    the source camera rolled by a quarter turn: its colour and depth images
   source-turned-180   turned clockwise by 90 / 180 / 270 deg, intrinsics to match; the camera
   source-turned-270   frame turns with them, so the ground truth does too
+  source-rolled-20    the source camera rolled by 20 / 45 deg (a tilted hand): its images
+  source-rolled-45    resampled (nearest pixel), size and intrinsics kept, corners left empty
   source-half-size    the source's images at half the width and height (every other pixel)
   source-darker       the source's colour at 45 % exposure and gamma 1.6
   depth-to-3m         both scans' depth cut at 3 m (a short-range sensor)
@@ -58,6 +60,30 @@ def turned(scan, quarter_turns):
             view.intrinsics = np.array([[K[1, 1], 0, h - 1 - K[1, 2]], [0, K[0, 0], K[0, 2]],
                                         [0, 0, 1.0]])
         R = QUARTER_CLOCKWISE @ R
+    return scan, R
+
+
+def rolled(scan, degrees):
+    """The camera rolled about its axis by `degrees` (clockwise in the image), image size and
+    intrinsics kept: each new pixel takes the nearest old pixel of the homography K R K^-1; the
+    corners that the old image does not cover have no colour and no depth."""
+    a = np.radians(degrees)
+    R = np.eye(4)
+    R[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]
+    for view in scan.views:
+        K = np.asarray(view.intrinsics, dtype=np.float64)
+        h, w = view.depth.shape
+        v, u = np.mgrid[0:h, 0:w]
+        rays = np.linalg.inv(K) @ np.stack([u.ravel(), v.ravel(), np.ones(u.size)])
+        old = K @ (R[:3, :3].T @ rays)
+        x = np.round(old[0] / old[2]).astype(int).reshape(h, w)
+        y = np.round(old[1] / old[2]).astype(int).reshape(h, w)
+        inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        color = np.zeros_like(view.color)
+        depth = np.zeros(view.depth.shape, dtype=np.float32)
+        color[inside] = view.color[y[inside], x[inside]]
+        depth[inside] = np.asarray(view.depth)[y[inside], x[inside]]
+        view.color, view.depth = color, depth
     return scan, R
 
 
@@ -107,6 +133,8 @@ CONDITIONS = {
     "source-turned-90": (lambda s: turned(s, 1), unchanged),
     "source-turned-180": (lambda s: turned(s, 2), unchanged),
     "source-turned-270": (lambda s: turned(s, 3), unchanged),
+    "source-rolled-20": (lambda s: rolled(s, 20), unchanged),
+    "source-rolled-45": (lambda s: rolled(s, 45), unchanged),
     "source-half-size": (half_size, unchanged),
     "source-darker": (darker, unchanged),
     "depth-to-3m": (depth_to_3m, depth_to_3m),

@@ -97,3 +97,32 @@ def test_pairs_without_overlap_are_invalid(pipeline, source, target):
     # rests on the check, not only on too few correspondences.
     names = [c["name"] for c in result.to_dict()["candidates"]]
     assert any(name.endswith(" icp") for name in names), names
+
+
+def _held_in_portrait(scan):
+    """The camera rolled a quarter turn: images turned clockwise, intrinsics to match. Returns the
+    scan and the new camera frame from the old one (a point (X, Y, Z) is (-Y, X, Z) now)."""
+    for view in scan.views:
+        h = view.color.shape[0]
+        view.color = np.ascontiguousarray(np.rot90(view.color, k=-1))
+        view.depth = np.ascontiguousarray(np.rot90(view.depth, k=-1))
+        K = np.asarray(view.intrinsics, dtype=np.float64)
+        view.intrinsics = np.array([[K[1, 1], 0, h - 1 - K[1, 2]], [0, K[0, 0], K[0, 2]], [0, 0, 1]])
+    turn = np.eye(4)
+    turn[:2, :2] = [[0, -1], [1, 0]]
+    return scan, turn
+
+
+def test_a_camera_held_in_portrait_registers_with_one_in_landscape(pipeline):
+    # hololens-gap1 3 <- 4 shows a wall: the geometry source is refused there (degenerate), and
+    # XFeat finds almost no matches between a portrait and a landscape view. Turning the portrait
+    # view's images back (hypotheses.turned_images) registers it.
+    target = zeroreg.load_scan(f"{HOLOLENS}@3")
+    source, turn = _held_in_portrait(zeroreg.load_scan(f"{HOLOLENS}@4"))
+    assert source.views[0].color.shape == (540, 360, 3)
+    result = pipeline.register(source, target)
+    gt = _gt(source, target) @ np.linalg.inv(turn)  # the source's camera frame turned with it
+    assert result.valid, result.reason
+    assert result.path == "image-turned-270 ransac", result.reason
+    assert zeroreg.rotation_error_deg(result.T_target_source, gt) < 1.0
+    assert zeroreg.translation_error_m(result.T_target_source, gt) < 0.03

@@ -124,6 +124,13 @@ TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) 
       << after.reason;
   EXPECT_EQ(after.reason.find("image-turned-90 "), std::string::npos) << after.reason;
   EXPECT_EQ(after.reason.find("image-turned-270 "), std::string::npos) << after.reason;
+
+  // Same input and seed, same output, whatever the thread count.
+  PipelineConfig one_thread;
+  one_thread.threads = 1;
+  const RegistrationResult serial = Register(source, target, one_thread);
+  EXPECT_EQ(serial.path, after.path);
+  EXPECT_EQ(serial.T_target_source, after.T_target_source);
 }
 
 // Unturned, the same pair registers without them: the turns run only when nothing else is valid.
