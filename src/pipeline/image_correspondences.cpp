@@ -26,17 +26,18 @@ Eigen::Vector2f UnturnPixel(const Eigen::Vector2f& p, int quarter_turns, int w, 
   }
 }
 
+// The extractor's features of `bgr` turned clockwise by `quarter_turns` (any integer; taken
+// modulo 4), with the keypoints in the pixels of `bgr` itself.
 ImageFeatures ExtractTurned(const FeatureExtractor& extractor, const cv::Mat& bgr,
                             int quarter_turns) {
-  if (quarter_turns % 4 == 0) return extractor.Extract(bgr);
+  const int turns = ((quarter_turns % 4) + 4) % 4;
+  if (turns == 0) return extractor.Extract(bgr);
   static constexpr cv::RotateFlags kTurn[] = {cv::ROTATE_90_CLOCKWISE, cv::ROTATE_180,
                                               cv::ROTATE_90_COUNTERCLOCKWISE};
   cv::Mat turned;
-  cv::rotate(bgr, turned, kTurn[quarter_turns % 4 - 1]);
+  cv::rotate(bgr, turned, kTurn[turns - 1]);
   ImageFeatures features = extractor.Extract(turned);
-  for (Eigen::Vector2f& k : features.keypoints) {
-    k = UnturnPixel(k, quarter_turns % 4, bgr.cols, bgr.rows);
-  }
+  for (Eigen::Vector2f& k : features.keypoints) k = UnturnPixel(k, turns, bgr.cols, bgr.rows);
   return features;
 }
 
@@ -57,6 +58,10 @@ LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const Vi
   }
   out.features = all.Subset(keep);
   return out;
+}
+
+WholeImageViewPairs WholeImageViewPairsOf(const MethodConfig& method) {
+  return {method.whole_image_all_view_pairs, method.whole_image_max_view_pairs};
 }
 
 int CountKeypoints(const std::vector<LiftedFeatures>& views) {
@@ -183,27 +188,37 @@ int SummedOverlapScore(const std::vector<LiftedFeatures>& source,
 
 }  // namespace
 
-TurnedWholeImage MatchTurnedWholeImages(const FeatureExtractor& extractor, const Scan& source,
-                                        const std::vector<LiftConfig>& source_lifts,
+TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Scan& scan,
+                                     const std::vector<LiftConfig>& lifts) {
+  TurnedFeatures out;
+  for (int q = 1; q <= 3; ++q) {
+    for (size_t v = 0; v < scan.views.size(); ++v) {
+      out[static_cast<size_t>(q - 1)].push_back(
+          ExtractLiftedFeatures(extractor, scan.views[v], lifts[v], q));
+    }
+  }
+  return out;
+}
+
+TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
                                         const std::vector<LiftedFeatures>& source_features,
                                         const std::vector<LiftedFeatures>& target_features,
                                         const DescriptorMatcher& matcher,
                                         const WholeImageViewPairs& view_pairs, int threads) {
   TurnedWholeImage out;
-  std::array<std::vector<LiftedFeatures>, 4> turned;
   out.overlap_scores[0] = SummedOverlapScore(source_features, target_features, view_pairs);
-  for (int q = 1; q <= 3; ++q) {
-    for (size_t v = 0; v < source.views.size(); ++v) {
-      turned[q].push_back(ExtractLiftedFeatures(extractor, source.views[v], source_lifts[v], q));
-    }
-    out.overlap_scores[q] = SummedOverlapScore(turned[q], target_features, view_pairs);
+  for (size_t q = 1; q <= 3; ++q) {
+    out.overlap_scores[q] = SummedOverlapScore(source_turned[q - 1], target_features, view_pairs);
   }
   for (int q = 1; q <= 3; ++q) {  // ties to the smaller turn
-    if (out.overlap_scores[q] > out.overlap_scores[out.quarter_turns]) out.quarter_turns = q;
+    if (out.overlap_scores[static_cast<size_t>(q)] >
+        out.overlap_scores[static_cast<size_t>(out.quarter_turns)]) {
+      out.quarter_turns = q;
+    }
   }
   if (out.quarter_turns > 0) {
-    MatchWholeImages(turned[out.quarter_turns], target_features, matcher, view_pairs, threads,
-                     &out.correspondences);
+    MatchWholeImages(source_turned[static_cast<size_t>(out.quarter_turns - 1)], target_features,
+                     matcher, view_pairs, threads, &out.correspondences);
   }
   return out;
 }

@@ -9,6 +9,7 @@
 #include "estimate/lift.hpp"
 #include "features/feature_extractor.hpp"
 #include "point_match/descriptor_matcher.hpp"
+#include "zeroreg/config.hpp"
 
 namespace zeroreg {
 
@@ -39,6 +40,9 @@ struct WholeImageViewPairs {
   int max_pairs = 0;
 };
 
+// MethodConfig::whole_image_all_view_pairs and whole_image_max_view_pairs.
+WholeImageViewPairs WholeImageViewPairsOf(const MethodConfig& method);
+
 // How much two views look like the same place, cheaply: mutual nearest neighbours among the
 // strongest kOverlapScoreKeypoints keypoints of each view that pass Lowe's ratio test (best
 // descriptor distance below 0.8 of the second best, Lowe, IJCV 2004). Views that share no
@@ -62,19 +66,23 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
                       const WholeImageViewPairs& view_pairs, int threads,
                       std::vector<Correspondence>* out);
 
-// Source (e) of the hypotheses (hypotheses.turned_images): the source's views' features extracted
-// from their colour images turned by 1, 2 and 3 quarter turns, each turn scored by its summed
-// ViewOverlapScore against the target's views (the view pairs `view_pairs` allows, before its
-// max_pairs cut), and only the best-scoring turn matched (MatchWholeImages), provided it scores
-// above the unturned images: a roll of the camera shows as one turn with far more distinctive
-// matches than the others; matching every turn cost 3x as much on pairs without common surface.
+// Source (e) of the hypotheses (hypotheses.turned_images; docs/CONFIG.md "Turned cameras (e)").
+// A scan's features extracted from its views' colour images turned by 1, 2 and 3 quarter turns
+// (index 0-2), per view, keypoints in the views' own pixels: they depend on the scan alone.
+using TurnedFeatures = std::array<std::vector<LiftedFeatures>, 3>;
+TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Scan& scan,
+                                     const std::vector<LiftConfig>& lifts);
+
+// Each turn of the source scored by its summed ViewOverlapScore against the target's views (the
+// view pairs `view_pairs` allows, before its max_pairs cut), and only the best-scoring turn
+// matched (MatchWholeImages), provided it scores above the unturned features: a rolled camera
+// shows as one turn with more distinctive matches than the others.
 struct TurnedWholeImage {
   int quarter_turns = 0;                // the turn matched; 0: no turn scores above the unturned
   std::array<int, 4> overlap_scores{};  // per turn 0-3 (0 = unturned)
   std::vector<Correspondence> correspondences;  // the matched turn's; empty for 0
 };
-TurnedWholeImage MatchTurnedWholeImages(const FeatureExtractor& extractor, const Scan& source,
-                                        const std::vector<LiftConfig>& source_lifts,
+TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
                                         const std::vector<LiftedFeatures>& source_features,
                                         const std::vector<LiftedFeatures>& target_features,
                                         const DescriptorMatcher& matcher,

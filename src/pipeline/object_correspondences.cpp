@@ -394,8 +394,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
   timer.Mark("point_match");
 
   const DescriptorMatcher& matcher = matcher_;
-  const WholeImageViewPairs view_pairs{config_.method.whole_image_all_view_pairs,
-                                       config_.method.whole_image_max_view_pairs};
+  const WholeImageViewPairs view_pairs = WholeImageViewPairsOf(config_.method);
   const int threads = config_.threads;
   result.whole_image_fallback = [perceived_s, perceived_t, &matcher, view_pairs, threads]() {
     std::vector<Correspondence> all;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <exception>
 #include <future>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 
@@ -38,6 +39,11 @@ struct PreparedScan::Data {
   IcpGeometry icp;                                 // ICP clouds per resolution (refine.enabled)
   std::vector<StageTime> timings;
   std::size_t memory_bytes = 0;
+  // hypotheses.turned_images: the features of the turned colour images, made the first time a
+  // pair with this scan as its source needs them (most scans never do), then shared by every such
+  // pair (ExtractTurnedFeatures).
+  mutable std::once_flag turned_once;
+  mutable TurnedFeatures turned;
 };
 
 PreparedScan::PreparedScan() = default;
@@ -506,9 +512,7 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   if (!config.method.object_level) {
     load_features();
     m.correspondence_source = std::make_unique<ImageCorrespondenceSource>(
-        *m.extractor, *m.matcher, config.lift,
-        WholeImageViewPairs{config.method.whole_image_all_view_pairs,
-                            config.method.whole_image_max_view_pairs},
+        *m.extractor, *m.matcher, config.lift, WholeImageViewPairsOf(config.method),
         config.threads);
     return;
   }
@@ -571,14 +575,16 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     };
   }
   // (e): the whole-image matching with the source's images turned (hypotheses.turned_images).
+  // Every source perceives its views through view_lifts; a scan without them has no features.
   if (extractor && matcher && source.perceived->view_lifts.size() == source.scan.views.size()) {
-    more.whole_image_turned = [&]() {
-      return MatchTurnedWholeImages(*extractor, source.scan, source.perceived->view_lifts,
-                                    source.perceived->view_features,
-                                    target.perceived->view_features, *matcher,
-                                    WholeImageViewPairs{config.method.whole_image_all_view_pairs,
-                                                        config.method.whole_image_max_view_pairs},
-                                    config.threads);
+    more.whole_image_turned = [this, source_ptr, target_ptr]() {
+      const Prepared& s = *source_ptr;
+      std::call_once(s.turned_once, [&] {
+        s.turned = ExtractTurnedFeatures(*extractor, s.scan, s.perceived->view_lifts);
+      });
+      return MatchTurnedWholeImages(s.turned, s.perceived->view_features,
+                                    target_ptr->perceived->view_features, *matcher,
+                                    WholeImageViewPairsOf(config.method), config.threads);
     };
   }
   Estimate(std::move(found.correspondences), effective, &result);

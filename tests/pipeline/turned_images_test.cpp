@@ -3,6 +3,9 @@
 // and a real pair with one camera upside down that only the turned images register.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <string>
 
@@ -131,6 +134,25 @@ TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) 
   const RegistrationResult serial = Register(source, target, one_thread);
   EXPECT_EQ(serial.path, after.path);
   EXPECT_EQ(serial.T_target_source, after.T_target_source);
+}
+
+// The turned features depend on the source scan alone: made once per prepared scan and reused by
+// every pair it is the source of, with the same result as a fresh registration.
+TEST(TurnedImages, PreparedSourceReusesItsTurnedFeatures) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office@";
+  Scan source = LoadScan(dir + "4");
+  source.views[0] = TurnedQuarterClockwise(TurnedQuarterClockwise(source.views[0]));
+  const Scan target = LoadScan(dir + "3");
+  const Pipeline pipeline{PipelineConfig()};
+  const PreparedScan prepared_source = pipeline.Prepare(source, /*as_target=*/false);
+  const PreparedScan prepared_target = pipeline.Prepare(target);
+  const RegistrationResult first = pipeline.Register(prepared_source, prepared_target);
+  const RegistrationResult second = pipeline.Register(prepared_source, prepared_target);
+  const RegistrationResult fresh = pipeline.Register(source, target);
+  ASSERT_TRUE(first.valid) << first.reason;
+  EXPECT_EQ(first.path, "image-turned-180 ransac");
+  EXPECT_EQ(second.T_target_source, first.T_target_source);
+  EXPECT_EQ(fresh.T_target_source, first.T_target_source);
 }
 
 // Unturned, the same pair registers without them: the turns run only when nothing else is valid.
