@@ -48,8 +48,16 @@ SCENES = {"redkitchen": "7scenes-redkitchen", "hololens": "hololens-office",
 QUARTER_CLOCKWISE = np.array([[0, -1, 0, 0], [1, 0, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
 
 
+def single_camera(scan):
+    """The changes below turn the camera frame itself: only for frames (one view, the scan frame
+    being the camera's), which every pair of the lists is."""
+    if len(scan.views) != 1 or not np.allclose(scan.views[0].T_scan_camera, np.eye(4)):
+        sys.exit(f"{scan.name}: expected a single frame (one view, identity T_scan_camera)")
+
+
 def turned(scan, quarter_turns):
     """The scan with its camera rolled clockwise; returns (scan, new camera from old camera)."""
+    single_camera(scan)
     R = np.eye(4)
     for _ in range(quarter_turns):
         for view in scan.views:
@@ -67,6 +75,7 @@ def rolled(scan, degrees):
     """The camera rolled about its axis by `degrees` (clockwise in the image), image size and
     intrinsics kept: each new pixel takes the nearest old pixel of the homography K R K^-1; the
     corners that the old image does not cover have no colour and no depth."""
+    single_camera(scan)
     a = np.radians(degrees)
     R = np.eye(4)
     R[:2, :2] = [[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]

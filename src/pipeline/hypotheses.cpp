@@ -285,11 +285,11 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // rolled by a quarter or half turn leaves XFeat few right matches, and every other source has
   // had its chance. Only the turn that shares the most distinctive matches with the target is
   // matched and judged (MatchTurnedWholeImages), and none when the unturned images share as many.
-  // Turned the right way, these are the fallback's own correspondences, so they are judged as the
-  // method judges its fallback: its estimator and count test (an inlier ratio, which a turn that
-  // matched by chance does not reach), and valid in degenerate geometry, where the image
+  // Turned the right way, these are the fallback's own correspondences, so they are estimated as
+  // the fallback's are (its estimator and count test: an inlier ratio, which a turn matched by
+  // chance does not reach) and may be valid in degenerate geometry, where the image
   // correspondences fix the open motion (hololens-gap1 3 <- 4 with the source upside down: a wall,
-  // 0.3 deg off).
+  // 0.3 deg off); `judge` holds the refinement to the extra sources' rules.
   const bool any_valid =
       result->valid ||
       std::any_of(tried.begin(), tried.end(), [](const RegistrationResult& r) { return r.valid; });
