@@ -569,8 +569,8 @@ struct HypothesesConfig {
   // (e) when neither the method nor (a)-(d) gives a valid result: the whole-image correspondences
   // again with the source's colour images turned by the quarter turn (90, 180 or 270 deg) whose
   // features share the most distinctive matches with the target's (none when the unturned images
-  // share as many), keypoints mapped back to the unturned pixels, judged as the method's fallback
-  // is. XFeat's descriptors are not invariant to the camera rolling about its axis, so a view
+  // share as many), keypoints mapped back to the unturned pixels, estimated as the method's
+  // fallback is and refined under the extra sources' rules. XFeat's descriptors are not invariant to the camera rolling about its axis, so a view
   // taken in portrait and one in landscape (a phone held either way; ARKit gives frames in the
   // sensor's orientation) or upside down share few whole-image matches. With it, 28 pairs of
   // seven lists with the source camera turned by 90 / 180 / 270 deg are 96.4 / 96.4 / 89.3 %

@@ -20,10 +20,7 @@ struct LiftedFeatures {
 };
 // With `quarter_turns` (1-3) the features are extracted from the colour image turned clockwise by
 // that many quarter turns, and their keypoints mapped back to the view's own pixels, so the 3D
-// points are the same as unturned. XFeat's descriptors are not invariant to the camera rolling
-// about its axis: a view taken in portrait and one in landscape (a phone, ARKit's frames) or one
-// upside down share almost no matches unless one of them is turned back
-// (hypotheses.turned_images).
+// points are the same as unturned (why: HypothesesConfig::turned_images).
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
                                      const LiftConfig& lift, int quarter_turns = 0);
 
