@@ -570,15 +570,15 @@ struct HypothesesConfig {
   // again with the source's colour images turned by the quarter turn (90, 180 or 270 deg) whose
   // features share the most distinctive matches with the target's (none when the unturned images
   // share as many), keypoints mapped back to the unturned pixels, estimated as the method's
-  // fallback is and refined under the extra sources' rules. XFeat's descriptors are not invariant to the camera rolling about its axis, so a view
-  // taken in portrait and one in landscape (a phone held either way; ARKit gives frames in the
-  // sensor's orientation) or upside down share few whole-image matches. With it, 28 pairs of
-  // seven lists with the source camera turned by 90 / 180 / 270 deg are 96.4 / 96.4 / 89.3 %
-  // right, against 82.1 / 64.3 / 67.9 % without (scripts/bench-conditions.py; BENCHMARKS.md
-  // "Turned cameras and other capture conditions"); no list pair changes. Costs three feature
-  // extractions per source view (once per prepared scan), four overlap scores and at most one
-  // matching, only on pairs no other source registers: 311 -> 449 ms median on pairs without
-  // common surface.
+  // fallback is and refined under the extra sources' rules. XFeat's descriptors are not invariant
+  // to the camera rolling about its axis, so a view taken in portrait and one in landscape (a phone
+  // held either way; ARKit gives frames in the sensor's orientation) or upside down share few
+  // whole-image matches. With it, 28 pairs of seven lists with the source camera turned by 90 / 180
+  // / 270 deg are 96.4 / 96.4 / 89.3 % right, against 82.1 / 64.3 / 67.9 % without
+  // (scripts/bench-conditions.py; BENCHMARKS.md "Turned cameras and other capture conditions"); no
+  // list pair changes. Costs three feature extractions per source view (once per prepared scan),
+  // four overlap scores and at most one matching, only on pairs no other source registers: 311 ->
+  // 449 ms median on pairs without common surface.
   bool turned_images = true;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
