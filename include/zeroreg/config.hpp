@@ -580,6 +580,14 @@ struct HypothesesConfig {
   // four overlap scores and at most one matching, only on pairs no other source registers: 311 ->
   // 449 ms median on pairs without common surface.
   bool turned_images = true;
+  // (e) matches a turn only when it shares at least this many distinctive matches with the
+  // target: three matches fit some rigid motion whenever their pairwise distances agree, so a turn
+  // that leads with fewer than four has no evidence that it is the camera's roll (the floor of four
+  // that refinements keep, refine_keeps_evidence). A turn chosen on one distinctive match (scores
+  // 0/0/1/0) registered a HoloLens wall pair valid and 35 deg wrong (68 <- 128, 17 % co-visible,
+  // scripts/bench-negatives.py --low-band 0.02 0.30); the right turns of
+  // scripts/bench-conditions.py led with 4 to 442. 0 = the best turn whatever its score.
+  int turned_min_matches = 4;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
   // "ransac" here gave three valid-but-wrong results on HoloLens (geometry source, 12-18

@@ -306,7 +306,11 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
                             std::move(turned.correspondences), config));
       refused.emplace_back();
     } else {
-      turned_scores += ", no turn above the unturned images";
+      const int best_turned = *std::max_element(o.begin() + 1, o.end());
+      turned_scores += best_turned > o[0]
+                           ? ", none matched: fewer than " + std::to_string(h.turned_min_matches) +
+                                 " for the best turn"
+                           : ", no turn above the unturned images";
     }
     timer.Mark("hypothesis turned images");
   }

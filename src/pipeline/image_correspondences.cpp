@@ -204,7 +204,8 @@ TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
                                         const std::vector<LiftedFeatures>& source_features,
                                         const std::vector<LiftedFeatures>& target_features,
                                         const DescriptorMatcher& matcher,
-                                        const WholeImageViewPairs& view_pairs, int threads) {
+                                        const WholeImageViewPairs& view_pairs, int min_score,
+                                        int threads) {
   TurnedWholeImage out;
   out.overlap_scores[0] = SummedOverlapScore(source_features, target_features, view_pairs);
   for (size_t q = 1; q <= 3; ++q) {
@@ -215,6 +216,9 @@ TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
         out.overlap_scores[static_cast<size_t>(out.quarter_turns)]) {
       out.quarter_turns = q;
     }
+  }
+  if (out.overlap_scores[static_cast<size_t>(out.quarter_turns)] < min_score) {
+    out.quarter_turns = 0;
   }
   if (out.quarter_turns > 0) {
     MatchWholeImages(source_turned[static_cast<size_t>(out.quarter_turns - 1)], target_features,

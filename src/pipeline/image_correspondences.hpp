@@ -72,17 +72,19 @@ TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Sc
 
 // Each turn of the source scored by its summed ViewOverlapScore against the target's views (the
 // view pairs `view_pairs` allows, before its max_pairs cut), and only the best-scoring turn
-// matched (MatchWholeImages), provided it scores above the unturned features: a rolled camera
-// shows as one turn with more distinctive matches than the others.
+// matched (MatchWholeImages), provided it scores above the unturned features and at least
+// `min_score` (hypotheses.turned_min_matches): a rolled camera shows as one turn with more
+// distinctive matches than the others.
 struct TurnedWholeImage {
-  int quarter_turns = 0;                // the turn matched; 0: no turn scores above the unturned
-  std::array<int, 4> overlap_scores{};  // per turn 0-3 (0 = unturned)
+  int quarter_turns = 0;  // the turn matched; 0: none scores above the unturned and min_score
+  std::array<int, 4> overlap_scores{};          // per turn 0-3 (0 = unturned)
   std::vector<Correspondence> correspondences;  // the matched turn's; empty for 0
 };
 TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
                                         const std::vector<LiftedFeatures>& source_features,
                                         const std::vector<LiftedFeatures>& target_features,
                                         const DescriptorMatcher& matcher,
-                                        const WholeImageViewPairs& view_pairs, int threads);
+                                        const WholeImageViewPairs& view_pairs, int min_score,
+                                        int threads);
 
 }  // namespace zeroreg

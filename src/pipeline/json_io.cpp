@@ -234,6 +234,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("geometry", c.geometry);
   v("objects", c.objects);
   v("turned_images", c.turned_images);
+  v("turned_min_matches", c.turned_min_matches, AtLeast(0));
   v("estimator", c.estimator);
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());

@@ -584,7 +584,8 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
       });
       return MatchTurnedWholeImages(s.turned, s.perceived->view_features,
                                     target_ptr->perceived->view_features, *matcher,
-                                    WholeImageViewPairsOf(config.method), config.threads);
+                                    WholeImageViewPairsOf(config.method),
+                                    config.hypotheses.turned_min_matches, config.threads);
     };
   }
   Estimate(std::move(found.correspondences), effective, &result);

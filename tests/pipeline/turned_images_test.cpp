@@ -163,5 +163,33 @@ TEST(TurnedImages, NotTriedWhenThePairRegistersUnturned) {
   EXPECT_EQ(r.reason.find("image-turned"), std::string::npos) << r.reason;
 }
 
+// A turn is matched only on evidence that it is the camera's roll: at least
+// hypotheses.turned_min_matches distinctive matches. hololens-office 68 <- 128 (a long table seen
+// from its two ends, 17 % co-visible) shares one distinctive match with the target at 180 deg and
+// none at the other turns; matched anyway, the half-turned images gave a wall pose 35 deg wrong
+// that the check accepted.
+TEST(TurnedImages, ATurnWithFewerThanFourDistinctiveMatchesIsNotMatched) {
+  const std::string dir = testing::SharedDir() + "/data/hololens-office@";
+  const Scan source = LoadScan(dir + "128");
+  const Scan target = LoadScan(dir + "68");
+  const Transform gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
+  const auto wrong = [&](const RegistrationResult& r) {
+    return RotationErrorDeg(r.T_target_source, gt) > 15.0 ||
+           TranslationErrorM(r.T_target_source, gt) > 0.3;
+  };
+
+  PipelineConfig any_score;
+  any_score.hypotheses.turned_min_matches = 0;
+  const RegistrationResult before = Register(source, target, any_score);
+  EXPECT_TRUE(before.valid && wrong(before) && before.path == "image-turned-180 ransac")
+      << "the pair no longer tests the rule: " << before.path << ": " << before.reason;
+
+  const RegistrationResult after = Register(source, target, PipelineConfig());
+  EXPECT_FALSE(after.valid && wrong(after)) << after.path << ": " << after.reason;
+  EXPECT_EQ(after.reason.find("image-turned-180 "), std::string::npos) << after.reason;
+  EXPECT_NE(after.reason.find("none matched: fewer than 4 for the best turn"), std::string::npos)
+      << after.reason;
+}
+
 }  // namespace
 }  // namespace zeroreg
