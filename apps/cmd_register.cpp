@@ -21,7 +21,8 @@ namespace zeroreg::cli {
 namespace {
 
 struct RegisterOptions {
-  std::string source, target, out, gt, viz, out_dir;
+  std::string source, target, out, gt, viz, out_dir, prior;
+  MotionPrior prior_tolerance;  // its T_target_source is read from `prior`
   double depth_scale = 0.0;
   bool with_correspondences = false;
   bool timings = false;
@@ -47,6 +48,17 @@ Runner AddRegisterCommand(CLI::App& app) {
   app.add_option("--gt", o->gt,
                  "ground-truth T_target_source as a 4x4 text file (default: from the scans' "
                  "poses when both have them)");
+  app.add_option(
+      "--prior", o->prior,
+      "motion prior T_target_source as a 4x4 text file (odometry, IMU): only a pose "
+      "within --prior-max-rotation-deg and --prior-max-translation-m of it can be valid, "
+      "and ICP from it is tried when no source gives one (symmetric scenes)");
+  app.add_option("--prior-max-rotation-deg", o->prior_tolerance.max_rotation_deg,
+                 "how far (deg) a valid pose may turn from --prior")
+      ->capture_default_str();
+  app.add_option("--prior-max-translation-m", o->prior_tolerance.max_translation_m,
+                 "how far (m) a valid pose may move from --prior")
+      ->capture_default_str();
   app.add_option("--depth-scale", o->depth_scale,
                  "raw depth units per metre (default: the layout's, 1000 or TUM's 5000)");
   app.add_option("--viz", o->viz,
@@ -99,6 +111,7 @@ Runner AddRegisterCommand(CLI::App& app) {
     };
     Scan source, target;
     std::optional<Transform> T_gt;
+    std::optional<MotionPrior> prior;
     double read_ms = 0, models_ms = 0;
     std::optional<Pipeline> pipeline;
     const auto read_inputs = [&] {
@@ -107,6 +120,10 @@ Runner AddRegisterCommand(CLI::App& app) {
           overlap, [&] { source = LoadScan(o->source, dataset_options); },
           [&] { target = LoadScan(o->target, dataset_options); });
       read_ms = ms_since(start);
+      if (!o->prior.empty()) {
+        prior = o->prior_tolerance;
+        prior->T_target_source = ReadPoseFile(o->prior);
+      }
       if (!o->gt.empty()) {
         T_gt = ReadPoseFile(o->gt);
       } else if (source.T_world_scan_gt && target.T_world_scan_gt) {
@@ -158,7 +175,7 @@ Runner AddRegisterCommand(CLI::App& app) {
       return r.valid ? kExitOk : kExitRegistrationFailed;
     }
 
-    RegistrationResult result = pipeline->Register(source, target);
+    RegistrationResult result = pipeline->Register(source, target, prior);
     lap();
     // The process's own stages go first in timings_ms; "total" stays the registration's.
     result.timings.insert(result.timings.begin(),
@@ -184,6 +201,11 @@ Runner AddRegisterCommand(CLI::App& app) {
                        {"result", ResultToJson(result, o->with_correspondences)},
                        {"config", ConfigToJson(config)},
                        {"seed", config.seed}};
+    if (prior) {
+      out["prior"] = {{"T_target_source", TransformToJson(prior->T_target_source)},
+                      {"max_rotation_deg", prior->max_rotation_deg},
+                      {"max_translation_m", prior->max_translation_m}};
+    }
     if (T_gt) {
       const double rot = RotationErrorDeg(result.T_target_source, *T_gt);
       const double trans = TranslationErrorM(result.T_target_source, *T_gt);

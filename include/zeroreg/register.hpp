@@ -17,6 +17,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "zeroreg/config.hpp"
@@ -52,6 +53,20 @@ class PreparedScan {
   std::shared_ptr<const Data> data_;
 };
 
+// What the caller already knows of the pose (odometry, an IMU, the previous loop closure): a
+// result is valid only within max_rotation_deg and max_translation_m of T_target_source (rotation
+// angle and translation of inv(prior) * T). Scans with symmetric content (a box seen from
+// opposite sides, a long table from both ends) agree as well under a flipped pose as under the
+// true one, or better, and no test of the two scans alone can tell them apart
+// (BENCHMARKS.md "Symmetric scenes and the motion prior"); the prior can. When no source gives a
+// valid pose within it, ICP from the prior itself is tried (path "prior icp") and judged by the
+// same check. The defaults are the benchmark's own "right" (15 deg, 30 cm).
+struct MotionPrior {
+  Transform T_target_source = Transform::Identity();
+  double max_rotation_deg = 15.0;
+  double max_translation_m = 0.30;
+};
+
 class Pipeline {
  public:
   // Resolves and verifies the model files and loads them. Throws InputError on a bad config or a
@@ -65,7 +80,9 @@ class Pipeline {
   // A registration that fails is returned with valid = false and a reason, never as a silent
   // identity.
   // Prepares both scans (concurrently when config.threads >= 2) and registers them.
-  RegistrationResult Register(const Scan& source, const Scan& target) const;
+  // With a prior, only a pose within it can be valid (MotionPrior).
+  RegistrationResult Register(const Scan& source, const Scan& target,
+                              const std::optional<MotionPrior>& prior = std::nullopt) const;
 
   // Everything of the pipeline that depends on `scan` alone. Throws InputError as Register does.
   // Thread-safe: several threads may prepare and register with one Pipeline at once.
@@ -76,7 +93,8 @@ class Pipeline {
   // The same result, bit for bit, as Register(source.scan(), target.scan()), without redoing the
   // per-scan work; the timings hold only the per-pair stages. Throws InputError for an empty
   // prepared scan or one made by another Pipeline.
-  RegistrationResult Register(const PreparedScan& source, const PreparedScan& target) const;
+  RegistrationResult Register(const PreparedScan& source, const PreparedScan& target,
+                              const std::optional<MotionPrior>& prior = std::nullopt) const;
 
   const PipelineConfig& config() const;
 
@@ -86,6 +104,7 @@ class Pipeline {
 };
 
 RegistrationResult Register(const Scan& source, const Scan& target,
-                            const PipelineConfig& config = PipelineConfig());
+                            const PipelineConfig& config = PipelineConfig(),
+                            const std::optional<MotionPrior>& prior = std::nullopt);
 
 }  // namespace zeroreg

@@ -639,14 +639,20 @@ std::string Repr(const RegistrationResult& r) {
 // Pipeline::Register with the scans converted first (they need the GIL), then run without it.
 // Either scan may be a PreparedScan (Pipeline.prepare); a plain one is then prepared here.
 RegistrationResult RegisterWith(const Pipeline& pipeline, const py::handle& source,
-                                const py::handle& target) {
+                                const py::handle& target, const py::object& prior_T,
+                                double prior_max_rotation_deg, double prior_max_translation_m) {
+  std::optional<MotionPrior> prior;
+  if (!prior_T.is_none()) {
+    prior = MotionPrior{RequireRigid(prior_T, "prior"), prior_max_rotation_deg,
+                        prior_max_translation_m};
+  }
   const bool source_prepared = py::isinstance<PreparedScan>(source);
   const bool target_prepared = py::isinstance<PreparedScan>(target);
   if (!source_prepared && !target_prepared) {
     const Scan s = ScanFromPython(source, "source");
     const Scan t = ScanFromPython(target, "target");
     py::gil_scoped_release release;
-    return pipeline.Register(s, t);
+    return pipeline.Register(s, t, prior);
   }
   PreparedScan s, t;
   Scan raw_s, raw_t;
@@ -663,7 +669,7 @@ RegistrationResult RegisterWith(const Pipeline& pipeline, const py::handle& sour
   py::gil_scoped_release release;
   if (!source_prepared) s = pipeline.Prepare(raw_s);
   if (!target_prepared) t = pipeline.Prepare(raw_t);
-  return pipeline.Register(s, t);
+  return pipeline.Register(s, t, prior);
 }
 
 PreparedScan PrepareWith(const Pipeline& pipeline, const py::handle& scan, bool as_target) {
@@ -866,8 +872,13 @@ PYBIND11_MODULE(_zeroreg, m) {
            }),
            py::arg("config") = py::none(), py::arg("seed") = py::none())
       .def("register", &RegisterWith, py::arg("source"), py::arg("target"),
+           py::arg("prior") = py::none(), py::arg("prior_max_rotation_deg") = 15.0,
+           py::arg("prior_max_translation_m") = 0.30,
            "Registers source into target; either may be a PreparedScan from prepare() (the "
-           "result is the same, bit for bit, as for the scans themselves).")
+           "result is the same, bit for bit, as for the scans themselves). prior: a 4x4 motion "
+           "prior T_target_source (odometry); only a pose within prior_max_rotation_deg and "
+           "prior_max_translation_m of it can be valid, and ICP from it is tried when no source "
+           "gives one (MotionPrior in C++).")
       .def("prepare", &PrepareWith, py::arg("scan"), py::arg("as_target") = true,
            "Everything that depends on one scan alone, done once: pass the PreparedScan to "
            "register() as often as needed. as_target=False for a scan that will only be a "

@@ -278,3 +278,24 @@ def test_agree_with_result_only_filters_the_reported_matches():
     assert kept < {(m["source"], m["target"]) for m in a.object_matches}
     dropped = len(a.object_matches) - len(b.object_matches)
     assert b.rejected_object_matches == a.rejected_object_matches + dropped
+
+
+def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
+    # A prior that holds the right pose changes nothing; one that does not makes the result
+    # invalid and says why; a prior that is no rigid transform is refused by name.
+    near = gt_20_0.copy()
+    near[:3, 3] += [0.05, 0.0, 0.0]
+    r = pipeline.register(frame_spec(20), frame_spec(0), prior=near)
+    np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
+    assert r.valid and r.reason == result_20_0_from_paths.reason
+    far = gt_20_0.copy()
+    far[:3, 3] += [1.0, 0.0, 0.0]
+    r = pipeline.register(frame_spec(20), frame_spec(0), prior=far, prior_max_translation_m=0.2)
+    assert not r.valid
+    assert "from the motion prior (tolerance 15.0 deg, 20.0 cm)" in r.reason, r.reason
+    with pytest.raises(ValueError) as error:
+        pipeline.register(frame_spec(20), frame_spec(0), prior=2 * np.eye(4))
+    assert "prior" in str(error.value)
+    with pytest.raises(ValueError) as error:
+        pipeline.register(frame_spec(20), frame_spec(0), prior=near, prior_max_rotation_deg=-1)
+    assert "motion prior tolerance" in str(error.value)

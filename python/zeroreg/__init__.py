@@ -152,14 +152,31 @@ class Pipeline:
         return self._impl.config
 
     def register(
-        self, source: Union[ScanLike, PreparedScan], target: Union[ScanLike, PreparedScan]
+        self,
+        source: Union[ScanLike, PreparedScan],
+        target: Union[ScanLike, PreparedScan],
+        prior: Any = None,
+        prior_max_rotation_deg: float = 15.0,
+        prior_max_translation_m: float = 0.30,
     ) -> Result:
         """Registers source to target; the result's T_target_source maps source into target.
 
         Either may be a PreparedScan from prepare(): the result is the same, bit for bit, and what
         depends on that scan alone is not computed again.
+
+        prior: what is already known of T_target_source (4x4, e.g. from odometry), or None. With
+        it, only a pose within prior_max_rotation_deg and prior_max_translation_m of it can be
+        valid, and ICP from the prior itself is tried when no source gives one (path "prior icp").
+        Scans of symmetric content agree under a flipped pose as well as under the true one; the
+        prior tells them apart (README "Symmetric scenes").
         """
-        return self._impl.register(_native(source, "source"), _native(target, "target"))
+        return self._impl.register(
+            _native(source, "source"),
+            _native(target, "target"),
+            prior,
+            float(prior_max_rotation_deg),
+            float(prior_max_translation_m),
+        )
 
     def prepare(self, scan: ScanLike, as_target: bool = True) -> PreparedScan:
         """Everything of the pipeline that depends on one scan alone (features, detections, masks,
@@ -175,9 +192,14 @@ def register(
     target: ScanLike,
     config: Union[None, dict, str] = None,
     seed: Optional[int] = None,
+    prior: Any = None,
+    prior_max_rotation_deg: float = 15.0,
+    prior_max_translation_m: float = 0.30,
 ) -> Result:
-    """One-call registration: Pipeline(config, seed).register(source, target)."""
-    return Pipeline(config, seed).register(source, target)
+    """One-call registration: Pipeline(config, seed).register(source, target, prior, ...)."""
+    return Pipeline(config, seed).register(
+        source, target, prior, prior_max_rotation_deg, prior_max_translation_m
+    )
 
 
 def refine(

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <future>
@@ -435,6 +436,80 @@ void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMo
   result->object_matches = std::move(kept);
 }
 
+// A prior that is not a rigid transform, or a tolerance that is not a positive number, is refused
+// by name (InputError) rather than silently making every result invalid.
+void CheckPrior(const std::optional<MotionPrior>& prior) {
+  if (!prior) return;
+  const Transform& T = prior->T_target_source;
+  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+  const bool rigid =
+      T.allFinite() && T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)) &&
+      (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3 &&
+      R.determinant() > 0;
+  if (!rigid) {
+    throw MakeInputError("motion prior T_target_source",
+                         "is not a rigid transform; expected a 4x4 matrix [R t; 0 0 0 1] with R a "
+                         "rotation (orthonormal, determinant +1)");
+  }
+  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
+  if (!positive(prior->max_rotation_deg) || !positive(prior->max_translation_m)) {
+    throw MakeInputError("motion prior tolerance",
+                         "max_rotation_deg " + std::to_string(prior->max_rotation_deg) +
+                             ", max_translation_m " + std::to_string(prior->max_translation_m) +
+                             ": expected positive numbers (degrees, metres)");
+  }
+}
+
+// MotionPrior: a valid result farther from the prior than its tolerance is made invalid, with
+// the distance in the reason. Applied wherever a verdict is reached, so that the fallback and the
+// extra hypotheses still run when the method's own estimate lies outside the prior.
+void ApplyPrior(const std::optional<MotionPrior>& prior, RegistrationResult* r) {
+  if (!prior || !r->valid) return;
+  const double turned_deg = RotationErrorDeg(r->T_target_source, prior->T_target_source);
+  const double moved_m = TranslationErrorM(r->T_target_source, prior->T_target_source);
+  if (turned_deg <= prior->max_rotation_deg && moved_m <= prior->max_translation_m) return;
+  r->valid = false;
+  char note[200];
+  std::snprintf(note, sizeof(note),
+                "; not valid: %.1f deg and %.1f cm from the motion prior (tolerance %.1f deg, "
+                "%.1f cm)",
+                turned_deg, moved_m * 100, prior->max_rotation_deg, prior->max_translation_m * 100);
+  r->reason += note;
+}
+
+// MotionPrior: no source gave a valid pose within the prior, so ICP starts from the prior itself
+// and the check judges where it lands, as for any estimate (refined only when the scans agree at
+// least as well after ICP; Refine). There are no correspondences, so nothing anchors ICP but the
+// depth: the prior's tolerance bounds how far it may slide. Taken only when valid.
+void JudgePriorPose(const Prepared& source, const Prepared& target, const PipelineConfig& config,
+                    const MotionPrior& prior, RegistrationResult* result) {
+  if (!config.verify.enabled) return;  // without the check nothing could judge it
+  RegistrationResult r;
+  r.path = "prior";
+  r.T_target_source = prior.T_target_source;
+  r.count_test_passed = true;  // the evidence is the prior itself
+  r.reason = "started from the motion prior";
+  ApplyVerification(source, target, config, "prior", &r);
+  if (config.refine.enabled) Refine(source, target, config, &r);
+  ApplyPrior(prior, &r);
+  if (r.T_target_source != prior.T_target_source) r.path = "prior icp";
+  std::vector<CandidateSummary> candidates = result->candidates;
+  candidates.insert(candidates.end(), r.candidates.begin(), r.candidates.end());
+  if (r.valid) {
+    r.reason +=
+        " [no source gave a valid pose within the motion prior; before it: " + result->reason + "]";
+    r.object_matches.clear();
+    r.source_objects = result->source_objects;
+    r.target_objects = result->target_objects;
+    r.num_keypoints_source = result->num_keypoints_source;
+    r.num_keypoints_target = result->num_keypoints_target;
+    *result = std::move(r);
+  } else {
+    result->reason += " [motion prior: ICP from it is not valid either: " + r.reason + "]";
+  }
+  result->candidates = std::move(candidates);
+}
+
 std::atomic<std::uint64_t> g_next_pipeline_id{1};
 
 }  // namespace
@@ -495,6 +570,7 @@ struct Pipeline::Impl {
   // Everything after Prepare: §3.3-3.4 correspondences, RANSAC, verification, ICP.
   RegistrationResult RegisterPrepared(const std::shared_ptr<const Prepared>& source_ptr,
                                       const std::shared_ptr<const Prepared>& target_ptr,
+                                      const std::optional<MotionPrior>& prior,
                                       StageTimer& timer) const;
 };
 
@@ -541,7 +617,8 @@ const PipelineConfig& Pipeline::config() const { return impl_->config; }
 
 RegistrationResult Pipeline::Impl::RegisterPrepared(
     const std::shared_ptr<const Prepared>& source_ptr,
-    const std::shared_ptr<const Prepared>& target_ptr, StageTimer& timer) const {
+    const std::shared_ptr<const Prepared>& target_ptr, const std::optional<MotionPrior>& prior,
+    StageTimer& timer) const {
   const Prepared& source = *source_ptr;
   const Prepared& target = *target_ptr;
   RegistrationResult result;
@@ -591,6 +668,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   Estimate(std::move(found.correspondences), effective, &result);
   timer.Mark("estimate");
   ApplyVerification(source, target, effective, result.path + " ransac", &result);
+  ApplyPrior(prior, &result);
   timer.Mark("verify");
 
   // A correct estimate a few centimetres or degrees off can fail the check and pass after ICP
@@ -605,6 +683,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   if (!result.valid && refine_before_fallback && result.count_test_passed) {
     timer.Restart();
     Refine(source, target, effective, &result);
+    ApplyPrior(prior, &result);
     timer.Mark("refine");
     refined = true;
     // Only ICP made it pass: the whole-image estimate is its rival (image_rival_rescued).
@@ -622,6 +701,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     timer.Mark("estimate");
     fallback.path = "image-fallback";
     ApplyVerification(source, target, effective, "image-fallback ransac", &fallback);
+    ApplyPrior(prior, &fallback);
     timer.Mark("verify");
     fallback.reason += " (object level: " + object_reason + ")";
     // The object estimate was refined: so is the fallback's before the two are compared.
@@ -629,6 +709,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     if (refined && !fallback.valid && fallback.count_test_passed) {
       timer.Restart();
       Refine(source, target, effective, &fallback);
+      ApplyPrior(prior, &fallback);
       timer.Mark("refine");
       fallback_refined = true;
     }
@@ -653,6 +734,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     Refine(source, target, effective, &result);
     timer.Mark("refine");
   }
+  ApplyPrior(prior, &result);
   // Estimates, checks and refines one source's correspondences; `rule`: what its refinement must
   // keep of the estimate's evidence besides the method's own test (KeptEvidence).
   const auto make_judge = [&](KeptEvidence rule) -> JudgeFn {
@@ -663,6 +745,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
       Estimate(std::move(found_here), e, &r);
       ApplyVerification(source, target, e, path, &r);
       if (e.refine.enabled && r.count_test_passed) Refine(source, target, e, &r, rule);
+      ApplyPrior(prior, &r);
       return r;
     };
   };
@@ -677,6 +760,11 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
     JudgeMoreHypotheses(source.scan, target.scan, config, more,
                         make_judge({/*fraction_always=*/false, /*min_kept=*/4}),
                         make_judge({/*fraction_always=*/true, /*min_kept=*/4}), timer, &result);
+  }
+  if (prior && !result.valid) {
+    timer.Restart();
+    JudgePriorPose(source, target, effective, *prior, &result);
+    timer.Mark("hypothesis prior");
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
@@ -695,22 +783,25 @@ PreparedScan Pipeline::Prepare(const Scan& scan, bool as_target) const {
   return out;
 }
 
-RegistrationResult Pipeline::Register(const PreparedScan& source,
-                                      const PreparedScan& target) const {
+RegistrationResult Pipeline::Register(const PreparedScan& source, const PreparedScan& target,
+                                      const std::optional<MotionPrior>& prior) const {
   const auto start = std::chrono::steady_clock::now();
   impl_->Check(source.data_, "source");
   impl_->Check(target.data_, "target");
+  CheckPrior(prior);
   StageTimer timer;
-  RegistrationResult result = impl_->RegisterPrepared(source.data_, target.data_, timer);
+  RegistrationResult result = impl_->RegisterPrepared(source.data_, target.data_, prior, timer);
   result.timings = timer.times();
   result.timings.push_back({"total", MillisecondsSince(start)});
   return result;
 }
 
-RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) const {
+RegistrationResult Pipeline::Register(const Scan& source, const Scan& target,
+                                      const std::optional<MotionPrior>& prior) const {
   const auto start = std::chrono::steady_clock::now();
   CheckScan(source, "source");
   CheckScan(target, "target");
+  CheckPrior(prior);
   // The two scans' perception is independent: with two threads each scan is prepared on its own
   // (the models serialise their inference, so one scan's detector overlaps the other's features).
   std::shared_ptr<const Prepared> s, t;
@@ -723,14 +814,15 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target) co
   for (const Prepared* p : {s.get(), t.get()}) {
     for (const StageTime& st : p->timings) timer.Add(st.stage, st.ms);
   }
-  RegistrationResult result = impl_->RegisterPrepared(s, t, timer);
+  RegistrationResult result = impl_->RegisterPrepared(s, t, prior, timer);
   result.timings = timer.times();
   result.timings.push_back({"total", MillisecondsSince(start)});
   return result;
 }
 
-RegistrationResult Register(const Scan& source, const Scan& target, const PipelineConfig& config) {
-  return Pipeline(config).Register(source, target);
+RegistrationResult Register(const Scan& source, const Scan& target, const PipelineConfig& config,
+                            const std::optional<MotionPrior>& prior) {
+  return Pipeline(config).Register(source, target, prior);
 }
 
 }  // namespace zeroreg

@@ -255,5 +255,34 @@ TEST_F(CliBadInput, ResultOnANonUtf8PathIsWritten) {
   EXPECT_TRUE(result["result"]["valid"].get<bool>());
 }
 
+// --prior: a motion prior file as --gt's; the result records it, and one that is no rigid
+// transform, or a tolerance that is not positive, is refused by name.
+TEST_F(CliBadInput, MotionPriorFromAFile) {
+  // Frame 20 of redkitchen is 6.4 deg and 14 cm from frame 0 at most (data MANIFEST): the
+  // identity as a prior with 20 deg and 0.5 m of tolerance holds the right pose.
+  Write("prior.txt", "1 0 0 0\n0 1 0 0\n0 0 1 0\n0 0 0 1\n");
+  const auto good = Run("--prior '" + Path("prior.txt") +
+                        "' --prior-max-rotation-deg 20 --prior-max-translation-m 0.5 --out '" +
+                        Path("result.json") + "'");
+  EXPECT_EQ(good.exit_code, 0) << good.output;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(Path("result.json")));
+  EXPECT_TRUE(j["result"]["valid"].get<bool>());
+  EXPECT_EQ(j["prior"]["max_rotation_deg"].get<double>(), 20.0);
+  EXPECT_EQ(j["prior"]["max_translation_m"].get<double>(), 0.5);
+
+  // With 1 cm of tolerance the identity does not hold it: not valid, and the reason says why.
+  const auto tight = Run("--prior '" + Path("prior.txt") + "' --prior-max-translation-m 0.01");
+  EXPECT_EQ(tight.exit_code, 1) << tight.output;
+  EXPECT_NE(tight.output.find("from the motion prior"), std::string::npos) << tight.output;
+
+  Write("scaled.txt", "2 0 0 0\n0 2 0 0\n0 0 2 0\n0 0 0 1\n");
+  const auto scaled = Run("--prior '" + Path("scaled.txt") + "'");
+  EXPECT_EQ(scaled.exit_code, 2) << scaled.output;
+  EXPECT_NE(scaled.output.find("scaled.txt"), std::string::npos) << scaled.output;
+  ExpectClearError(Run("--prior '" + Path("missing.txt") + "'"), "missing.txt", "");
+  ExpectClearError(Run("--prior '" + Path("prior.txt") + "' --prior-max-rotation-deg 0"),
+                   "motion prior tolerance", "positive");
+}
+
 }  // namespace
 }  // namespace zeroreg
