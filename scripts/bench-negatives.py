@@ -19,7 +19,11 @@ result: no transform makes two scans without common surfaces agree):
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/bench-negatives.py \
         [--per-scene 30] [--cross 30] [--low-overlap 30] [--out results/negatives] \
-        [--set section.key=value ...]
+        [--prior-error DEG M [--prior-tolerance DEG M]] [--set section.key=value ...]
+
+--prior-error registers every pair of one scene with a motion prior (zeroreg MotionPrior) that is
+the ground truth moved by DEG about a random axis and M metres in a random direction (seeded), as
+an odometry guess of that error would be; cross-scene pairs have no truth and get none.
 
 Writes OUT/pairs.jsonl (one record per pair: kind, scenes, frames, co-visibility, valid, errors
 against the ground truth where there is one, path, reason, time) and OUT/summary.md, prints the
@@ -37,7 +41,7 @@ import numpy as np
 
 sys.path.insert(0, os.environ.get("ZEROREG_PYTHONPATH", "build/python"))
 import zeroreg  # noqa: E402
-from bench_common import parse_sets  # noqa: E402
+from bench_common import parse_sets, pose_off_by  # noqa: E402
 
 SCENES = ["7scenes-redkitchen", "hololens-office", "tum-fr3-cabinet"]
 
@@ -106,7 +110,14 @@ def main():
     ap.add_argument("--seed", type=int, default=0, help="seed of the pair sampling")
     ap.add_argument("--out", default="results/negatives")
     ap.add_argument("--set", action="append", default=[], help="config override section.key=value")
+    ap.add_argument("--prior-error", type=float, nargs=2, metavar=("DEG", "M"),
+                    help="register same-scene pairs with a motion prior this far from the truth")
+    ap.add_argument("--prior-tolerance", type=float, nargs=2, default=[15.0, 0.30],
+                    metavar=("DEG", "M"), help="the prior's tolerance (default 15 deg, 0.3 m)")
     args = ap.parse_args()
+    if args.prior_error and (min(args.prior_error) < 0 or min(args.prior_tolerance) <= 0):
+        sys.exit(f"--prior-error {args.prior_error} / --prior-tolerance {args.prior_tolerance}: "
+                 "expected errors >= 0 and tolerances > 0 (degrees, metres)")
 
     for scene in SCENES:
         if not os.path.isdir(os.path.join(args.data, scene, "frames")):
@@ -118,6 +129,7 @@ def main():
     # One generator per kind, so that asking for more of one kind leaves the others' pairs alone.
     rng_same = np.random.default_rng([args.seed, 0])
     rng_cross = np.random.default_rng([args.seed, 1])
+    rng_prior = np.random.default_rng([args.seed, 2])
     pipeline = zeroreg.Pipeline(parse_sets(args.set), seed=0)
     chosen = {}  # the scans of the chosen pairs only (sampling reads thousands of frames)
 
@@ -167,9 +179,17 @@ def main():
     records = []
     with open(os.path.join(args.out, "pairs.jsonl"), "w") as out:
         for n, (kind, ts, tf, ss, sf, c) in enumerate(pairs):
+            gt = None
+            if ss == ts:
+                gt = np.linalg.inv(scan(ts, tf).T_world_scan_gt) @ scan(ss, sf).T_world_scan_gt
+            prior = {}
+            if args.prior_error and gt is not None:
+                prior = {"prior": pose_off_by(gt, *args.prior_error, rng_prior),
+                         "prior_max_rotation_deg": args.prior_tolerance[0],
+                         "prior_max_translation_m": args.prior_tolerance[1]}
             start = time.perf_counter()
             try:
-                r = pipeline.register(scan(ss, sf), scan(ts, tf))
+                r = pipeline.register(scan(ss, sf), scan(ts, tf), **prior)
             except (RuntimeError, ValueError) as e:  # a bad frame stops one pair, not the run
                 print(f"{ss}@{sf} -> {ts}@{tf}: {e}", file=sys.stderr)
                 continue
@@ -180,8 +200,9 @@ def main():
                    "overlap": verification.get("overlap"),
                    "brightness_rank_correlation": verification.get("brightness_rank_correlation"),
                    "reason": r.reason, "time_ms": round(1000 * seconds, 1)}
-            if ss == ts:
-                gt = np.linalg.inv(scan(ts, tf).T_world_scan_gt) @ scan(ss, sf).T_world_scan_gt
+            if prior:
+                rec["prior_error"] = args.prior_error
+            if gt is not None:
                 rec["rotation_error_deg"] = zeroreg.rotation_error_deg(r.T_target_source, gt)
                 rec["translation_error_m"] = zeroreg.translation_error_m(r.T_target_source, gt)
             # Without a common surface no transform is right; with one, the suite's criterion.
@@ -193,7 +214,12 @@ def main():
                   f"{'valid' if r.valid else 'invalid'}, {'right' if rec['right'] else 'wrong'}",
                   file=sys.stderr, flush=True)
 
-    lines = ["| pairs | scenes | count | valid-right / valid-WRONG / invalid-right / invalid-wrong "
+    lines = []
+    if args.prior_error:
+        lines += [f"With a motion prior {args.prior_error[0]:g} deg and {args.prior_error[1]:g} m "
+                  f"from the truth (tolerance {args.prior_tolerance[0]:g} deg, "
+                  f"{args.prior_tolerance[1]:g} m) on every same-scene pair.\n"]
+    lines += ["| pairs | scenes | count | valid-right / valid-WRONG / invalid-right / invalid-wrong "
              "| median ms / pair |", "|---|---|---|---|---|"]
     groups = {}
     for rec in records:
