@@ -339,12 +339,13 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // `refusal`: why judge_extra refused it; otherwise a result the check passed that is not valid
   // is one whose refinement is another accepted pose (Refine).
   auto describe = [](const RegistrationResult& r, const std::string& refusal) {
-    const char* verdict = r.valid                ? "valid"
-                          : !r.count_test_passed ? "no consensus"
-                          : !refusal.empty()     ? refusal.c_str()
-                          : r.verification.passed
-                              ? "not valid: another pose passes the check as well"
-                              : "refused by the check";
+    const char* verdict =
+        r.valid                                                   ? "valid"
+        : !r.count_test_passed                                    ? "no consensus"
+        : !refusal.empty()                                        ? refusal.c_str()
+        : r.reason.find(kFromTheMotionPrior) != std::string::npos ? "outside the motion prior"
+        : r.verification.passed ? "not valid: another pose passes the check as well"
+                                : "refused by the check";
     char line[200];
     std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(), verdict,
                   r.verification.score);

@@ -27,6 +27,10 @@
 
 namespace zeroreg {
 
+// Words of the reason of a result made invalid by the caller's motion prior (ApplyPrior,
+// register.cpp), which the summary of the hypotheses reports as such.
+inline constexpr const char* kFromTheMotionPrior = "from the motion prior";
+
 // Estimates a transform from `correspondences` under `effective`, applies the geometric check and
 // the ICP refinement, and returns the finished result with path = `path`.
 using JudgeFn = std::function<RegistrationResult(const std::string& path,
