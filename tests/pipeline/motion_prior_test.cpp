@@ -16,8 +16,17 @@
 namespace zeroreg {
 namespace {
 
-Transform GroundTruth(const Scan& source, const Scan& target) {
-  return target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
+// Frames `source` and `target` of a scene of ../shared/data, with their ground truth.
+struct RealPair {
+  Scan source, target;
+  Transform gt;
+};
+RealPair LoadPair(const std::string& scene, int source, int target) {
+  const std::string dir = testing::SharedDir() + "/data/" + scene + "@";
+  RealPair p{LoadScan(dir + std::to_string(source)), LoadScan(dir + std::to_string(target)),
+             Transform::Identity()};
+  p.gt = p.target.T_world_scan_gt->inverse() * *p.source.T_world_scan_gt;
+  return p;
 }
 
 // The ground truth moved by 5 deg about the camera's x axis and 10 cm along its y axis: an
@@ -35,23 +44,25 @@ bool Right(const RegistrationResult& r, const Transform& gt) {
          TranslationErrorM(r.T_target_source, gt) < 0.30;
 }
 
+// The pair registered with a prior near its truth, after checking that its symmetric content
+// fools every test of the scans alone: without a prior the result is valid and wrong (if it stops
+// being so, the pair no longer tests the prior).
+RegistrationResult RegisterSymmetricPairWithAPrior(const RealPair& p) {
+  const Pipeline pipeline{PipelineConfig()};
+  const RegistrationResult without = pipeline.Register(p.source, p.target);
+  EXPECT_TRUE(without.valid && !Right(without, p.gt))
+      << "the pair no longer tests the prior: " << without.path << ": " << without.reason;
+  return pipeline.Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
+}
+
 // tum-fr3-cabinet 39 <- 7 (co-visibility 20 %): an untextured box from opposite sides. The
 // flipped pose puts faces, floor and colours together (overlap 64 %) and the check accepts it; at
 // the truth the check sees 18 % of the surface in space the other camera saw through. With the
 // prior the flip is not valid, and ICP from the prior is not valid either: invalid, not wrong.
 TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
-  const std::string dir = testing::SharedDir() + "/data/tum-fr3-cabinet@";
-  const Scan source = LoadScan(dir + "7");
-  const Scan target = LoadScan(dir + "39");
-  const Transform gt = GroundTruth(source, target);
-  const Pipeline pipeline{PipelineConfig()};
-
-  const RegistrationResult without = pipeline.Register(source, target);
-  EXPECT_TRUE(without.valid && !Right(without, gt))
-      << "the pair no longer tests the prior: " << without.path << ": " << without.reason;
-
-  const RegistrationResult with = pipeline.Register(source, target, MotionPrior{NearTruth(gt)});
-  EXPECT_FALSE(with.valid && !Right(with, gt)) << with.path << ": " << with.reason;
+  const RealPair p = LoadPair("tum-fr3-cabinet", 7, 39);
+  const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
+  EXPECT_FALSE(with.valid && !Right(with, p.gt)) << with.path << ": " << with.reason;
   EXPECT_NE(with.reason.find("from the motion prior (tolerance 15.0 deg, 30.0 cm)"),
             std::string::npos)
       << with.reason;
@@ -62,17 +73,12 @@ TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
 // prior the geometry source's half turn is valid and wrong; with one, ICP from the prior reaches
 // the truth and the check accepts it.
 TEST(MotionPrior, IcpFromThePriorRegistersTheSymmetricTable) {
-  const std::string dir = testing::SharedDir() + "/data/hololens-office@";
-  const Scan source = LoadScan(dir + "371");
-  const Scan target = LoadScan(dir + "124");
-  const Transform gt = GroundTruth(source, target);
-  const Pipeline pipeline{PipelineConfig()};
-
-  const RegistrationResult with = pipeline.Register(source, target, MotionPrior{NearTruth(gt)});
+  const RealPair p = LoadPair("hololens-office", 371, 124);
+  const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
   ASSERT_TRUE(with.valid) << with.reason;
   EXPECT_EQ(with.path, "prior icp");
-  EXPECT_LT(RotationErrorDeg(with.T_target_source, gt), 2.0);
-  EXPECT_LT(TranslationErrorM(with.T_target_source, gt), 0.10);
+  EXPECT_LT(RotationErrorDeg(with.T_target_source, p.gt), 2.0);
+  EXPECT_LT(TranslationErrorM(with.T_target_source, p.gt), 0.10);
   EXPECT_NE(with.reason.find("no source gave a valid pose within the motion prior"),
             std::string::npos)
       << with.reason;
@@ -81,19 +87,18 @@ TEST(MotionPrior, IcpFromThePriorRegistersTheSymmetricTable) {
   PipelineConfig one_thread;
   one_thread.threads = 1;
   const RegistrationResult serial =
-      Pipeline(one_thread).Register(source, target, MotionPrior{NearTruth(gt)});
+      Pipeline(one_thread).Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
   EXPECT_EQ(serial.T_target_source, with.T_target_source);
   EXPECT_EQ(serial.path, with.path);
 }
 
 // A result inside the prior is the result without it, bit for bit.
 TEST(MotionPrior, AResultWithinThePriorIsUnchanged) {
-  const Scan source = LoadScan(testing::RedkitchenDir() + "@20");
-  const Scan target = LoadScan(testing::RedkitchenDir() + "@0");
+  const RealPair p = LoadPair("7scenes-redkitchen", 20, 0);
   const Pipeline pipeline{PipelineConfig()};
-  const RegistrationResult without = pipeline.Register(source, target);
+  const RegistrationResult without = pipeline.Register(p.source, p.target);
   const RegistrationResult with =
-      pipeline.Register(source, target, MotionPrior{NearTruth(GroundTruth(source, target))});
+      pipeline.Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
   ASSERT_TRUE(without.valid) << without.reason;
   EXPECT_TRUE(with.valid) << with.reason;
   EXPECT_EQ(with.T_target_source, without.T_target_source);
