@@ -43,7 +43,8 @@ class PreparedScan {
   // Wall time of preparing it, per stage (features, detect, segment, objects, geometry), ms.
   const std::vector<StageTime>& timings() const;
   // Approximate heap memory held beyond the scan's images and points (features, masks, clouds),
-  // bytes; what a cache of prepared scans budgets.
+  // bytes; what a cache of prepared scans budgets. It grows once when the scan is first the source
+  // of a pair that needs its turned images' features (hypotheses.turned_images).
   std::size_t MemoryBytes() const;
 
   struct Data;

@@ -49,6 +49,16 @@ PreparedScan PreparedScanCache::Get(const std::string& key,
 }
 
 void PreparedScanCache::EvictLocked(const std::string& keep) {
+  // A prepared scan grows after it is cached when it is first the source of a pair that turns
+  // its images (PreparedScan::MemoryBytes): the budget counts what each holds now.
+  for (auto& key_entry : entries_) {
+    Entry& entry = key_entry.second;
+    // bytes == 0: still being prepared (or just failed); its preparer counts it.
+    if (entry.bytes == 0) continue;
+    const std::size_t now = entry.value.get().MemoryBytes();  // ready: bytes are set after it
+    stats_.bytes = stats_.bytes - entry.bytes + now;
+    entry.bytes = now;
+  }
   while (!lru_.empty() && (entries_.size() > max_scans_ || stats_.bytes > max_bytes_)) {
     // The least recently used entry other than `keep` goes.
     auto victim = std::prev(lru_.end());

@@ -37,7 +37,9 @@ class PreparedScanCache {
 
   struct Stats {
     std::size_t hits = 0, misses = 0, evictions = 0;
-    std::size_t scans = 0, bytes = 0;  // held now
+    // held now; bytes as of the last insertion (a scan grows when its turned images' features
+    // are first made, PreparedScan::MemoryBytes, and is counted so at the next insertion)
+    std::size_t scans = 0, bytes = 0;
   };
   Stats stats() const;
 

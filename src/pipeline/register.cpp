@@ -45,6 +45,8 @@ struct PreparedScan::Data {
   // pair (ExtractTurnedFeatures).
   mutable std::once_flag turned_once;
   mutable TurnedFeatures turned;
+  // What `turned` holds once made (MemoryBytes includes it from then on; 0 before).
+  mutable std::atomic<std::size_t> turned_bytes{0};
 };
 
 PreparedScan::PreparedScan() = default;
@@ -60,7 +62,9 @@ const std::vector<StageTime>& PreparedScan::timings() const {
   static const std::vector<StageTime> kNone;
   return data_ ? data_->timings : kNone;
 }
-std::size_t PreparedScan::MemoryBytes() const { return data_ ? data_->memory_bytes : 0; }
+std::size_t PreparedScan::MemoryBytes() const {
+  return data_ ? data_->memory_bytes + data_->turned_bytes.load() : 0;
+}
 
 namespace {
 
@@ -390,6 +394,13 @@ bool NeedsAssets(const PipelineConfig& c) {
   return c.detector.backend != "file" || c.method.clip || c.segmenter.backend == "sam";
 }
 
+// Heap bytes of one view's features: keypoints with their scores, descriptors, 3D points.
+std::size_t LiftedFeaturesBytes(const LiftedFeatures& f) {
+  return f.features.keypoints.size() * (sizeof(Eigen::Vector2f) + sizeof(float)) +
+         static_cast<std::size_t>(f.features.descriptors.size()) * sizeof(float) +
+         f.points.size() * sizeof(Eigen::Vector3d);
+}
+
 // Heap bytes of what a prepared scan holds (images, points, features, masks, clouds).
 std::size_t PreparedBytes(const Prepared& p) {
   std::size_t bytes = p.scan.points.size() * sizeof(Eigen::Vector3d) +
@@ -397,11 +408,7 @@ std::size_t PreparedBytes(const Prepared& p) {
   for (const View& v : p.scan.views) {
     bytes += v.color.total() * v.color.elemSize() + v.depth.total() * v.depth.elemSize();
   }
-  for (const LiftedFeatures& f : p.perceived->view_features) {
-    bytes += f.features.keypoints.size() * (sizeof(Eigen::Vector2f) + sizeof(float)) +
-             static_cast<std::size_t>(f.features.descriptors.size()) * sizeof(float) +
-             f.points.size() * sizeof(Eigen::Vector3d);
-  }
+  for (const LiftedFeatures& f : p.perceived->view_features) bytes += LiftedFeaturesBytes(f);
   for (const ObjectObservation& o : p.perceived->objects.observations) {
     bytes += o.mask.total() * o.mask.elemSize() + o.points.size() * sizeof(Eigen::Vector3d);
   }
@@ -671,6 +678,11 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
       const Prepared& s = *source_ptr;
       std::call_once(s.turned_once, [&] {
         s.turned = ExtractTurnedFeatures(*extractor, s.scan, s.perceived->view_lifts);
+        std::size_t bytes = 0;
+        for (const std::vector<LiftedFeatures>& turn : s.turned) {
+          for (const LiftedFeatures& f : turn) bytes += LiftedFeaturesBytes(f);
+        }
+        s.turned_bytes = bytes;
       });
       return MatchTurnedWholeImages(s.turned, s.perceived->view_features,
                                     target_ptr->perceived->view_features, *matcher,

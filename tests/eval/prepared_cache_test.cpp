@@ -78,6 +78,22 @@ TEST_F(PreparedCacheTest, MemoryBoundKeepsOnlyWhatFits) {
   EXPECT_EQ(tiny.stats().scans, 1u);
 }
 
+// A prepared scan grows when it is first the source of a pair that needs its turned images'
+// features (redkitchen frames 636 and 849 share no surface, so every source runs, the turned images
+// last); the budget counts what it holds at the next insertion.
+TEST_F(PreparedCacheTest, AScanThatGrowsAfterItIsCachedIsCountedAsItIsNow) {
+  PreparedScanCache cache(/*max_scans=*/100, /*max_bytes=*/std::size_t{1} << 40);
+  const PreparedScan source = cache.Get("source", Preparer(636));
+  const PreparedScan target = cache.Get("target", Preparer(849));
+  const std::size_t before = source.MemoryBytes();
+  const RegistrationResult r = pipeline_.Register(source, target);
+  ASSERT_NE(r.reason.find("image-turned: distinctive matches"), std::string::npos) << r.reason;
+  EXPECT_GT(source.MemoryBytes(), before);
+  cache.Get("other", Preparer(20));
+  EXPECT_EQ(cache.stats().bytes, source.MemoryBytes() + target.MemoryBytes() +
+                                     cache.Get("other", Preparer(20)).MemoryBytes());
+}
+
 TEST_F(PreparedCacheTest, FailuresAreNotCachedAndConcurrentAskersShareOnePreparation) {
   PreparedScanCache cache;
   EXPECT_THROW(cache.Get("bad", []() -> PreparedScan { throw std::runtime_error("no"); }),
