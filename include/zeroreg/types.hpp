@@ -136,6 +136,7 @@ struct CandidateSummary {
   double score = 0.0;  // VerificationResult::score
   bool passed = false;
   bool chosen = false;
+  bool outside_prior = false;  // passed, but beyond the caller's MotionPrior (so not valid)
 };
 
 struct RegistrationResult {

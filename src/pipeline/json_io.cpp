@@ -577,7 +577,8 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
                             {"T_target_source", TransformToJson(c.T_target_source)},
                             {"score", c.score},
                             {"passed", c.passed},
-                            {"chosen", c.chosen}});
+                            {"chosen", c.chosen},
+                            {"outside_prior", c.outside_prior}});
     }
     j["candidates"] = candidates;
   }

@@ -476,6 +476,9 @@ void ApplyPrior(const std::optional<MotionPrior>& prior, RegistrationResult* r) 
   const double moved_m = TranslationErrorM(r->T_target_source, prior->T_target_source);
   if (turned_deg <= prior->max_rotation_deg && moved_m <= prior->max_translation_m) return;
   r->valid = false;
+  for (CandidateSummary& c : r->candidates) {
+    if (c.T_target_source == r->T_target_source) c.outside_prior = true;
+  }
   char note[200];
   std::snprintf(note, sizeof(note),
                 "; not valid: %.1f deg and %.1f cm %s (tolerance %.1f deg, %.1f cm)", turned_deg,

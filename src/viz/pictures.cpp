@@ -203,8 +203,9 @@ cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const Registratio
     cv::rectangle(tile, cv::Point(0, tile.rows - 28), cv::Point(tile.cols, tile.rows),
                   c->chosen ? cv::Scalar(60, 140, 60) : cv::Scalar(90, 90, 90), cv::FILLED);
     char text[200];
-    std::snprintf(text, sizeof(text), "%s%s: score %.3f, check %s", c->chosen ? "CHOSEN " : "",
-                  c->name.c_str(), c->score, c->passed ? "passed" : "refused");
+    std::snprintf(text, sizeof(text), "%s%s: score %.3f, check %s%s", c->chosen ? "CHOSEN " : "",
+                  c->name.c_str(), c->score, c->passed ? "passed" : "refused",
+                  c->outside_prior ? ", outside the prior" : "");
     Caption(tile, text);
     tiles.push_back(tile);
   }

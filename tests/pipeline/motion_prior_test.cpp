@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -67,6 +68,9 @@ TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
             std::string::npos)
       << with.reason;
   EXPECT_NE(with.reason.find("[motion prior: ICP from it"), std::string::npos) << with.reason;
+  // The flip is listed as a candidate the check passed, beyond the prior.
+  EXPECT_TRUE(std::any_of(with.candidates.begin(), with.candidates.end(),
+                          [](const CandidateSummary& c) { return c.passed && c.outside_prior; }));
 }
 
 // hololens-office 124 <- 371 (co-visibility 21 %): a long table from its two ends. Without a
