@@ -467,18 +467,29 @@ void CheckPrior(const std::optional<MotionPrior>& prior) {
   }
 }
 
+// How far T is from the prior (rotation angle, deg; translation, m), and whether that is beyond
+// its tolerance.
+struct PriorDistance {
+  double turned_deg = 0, moved_m = 0;
+  bool beyond = false;
+};
+PriorDistance DistanceFromPrior(const MotionPrior& prior, const Transform& T) {
+  PriorDistance d;
+  d.turned_deg = RotationErrorDeg(T, prior.T_target_source);
+  d.moved_m = TranslationErrorM(T, prior.T_target_source);
+  d.beyond = d.turned_deg > prior.max_rotation_deg || d.moved_m > prior.max_translation_m;
+  return d;
+}
+
 // MotionPrior: a valid result farther from the prior than its tolerance is made invalid, with
 // the distance in the reason. Applied wherever a verdict is reached, so that the fallback and the
 // extra hypotheses still run when the method's own estimate lies outside the prior.
 void ApplyPrior(const std::optional<MotionPrior>& prior, RegistrationResult* r) {
   if (!prior || !r->valid) return;
-  const double turned_deg = RotationErrorDeg(r->T_target_source, prior->T_target_source);
-  const double moved_m = TranslationErrorM(r->T_target_source, prior->T_target_source);
-  if (turned_deg <= prior->max_rotation_deg && moved_m <= prior->max_translation_m) return;
+  const PriorDistance d = DistanceFromPrior(*prior, r->T_target_source);
+  if (!d.beyond) return;
+  const double turned_deg = d.turned_deg, moved_m = d.moved_m;
   r->valid = false;
-  for (CandidateSummary& c : r->candidates) {
-    if (c.T_target_source == r->T_target_source) c.outside_prior = true;
-  }
   char note[200];
   std::snprintf(note, sizeof(note),
                 "; not valid: %.1f deg and %.1f cm %s (tolerance %.1f deg, %.1f cm)", turned_deg,
@@ -796,6 +807,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   }
   for (CandidateSummary& c : result.candidates) {
     c.chosen = c.T_target_source == result.T_target_source;
+    c.outside_prior = c.passed && prior && DistanceFromPrior(*prior, c.T_target_source).beyond;
   }
   if (config.object_match.agree_with_result && result.valid) {
     KeepObjectMatchesThatMoveWith(result.T_target_source, found.object_match_points,
