@@ -48,17 +48,20 @@ Runner AddRegisterCommand(CLI::App& app) {
   app.add_option("--gt", o->gt,
                  "ground-truth T_target_source as a 4x4 text file (default: from the scans' "
                  "poses when both have them)");
-  app.add_option(
+  CLI::Option* prior_option = app.add_option(
       "--prior", o->prior,
       "motion prior T_target_source as a 4x4 text file (odometry, IMU): only a pose "
       "within --prior-max-rotation-deg and --prior-max-translation-m of it can be valid, "
       "and ICP from it is tried when no source gives one (symmetric scenes)");
+  // A tolerance without a prior would be silently ignored: CLI11 refuses it by name instead.
   app.add_option("--prior-max-rotation-deg", o->prior_tolerance.max_rotation_deg,
                  "how far (deg) a valid pose may turn from --prior")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(prior_option);
   app.add_option("--prior-max-translation-m", o->prior_tolerance.max_translation_m,
                  "how far (m) a valid pose may move from --prior")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->needs(prior_option);
   app.add_option("--depth-scale", o->depth_scale,
                  "raw depth units per metre (default: the layout's, 1000 or TUM's 5000)");
   app.add_option("--viz", o->viz,
@@ -75,7 +78,8 @@ Runner AddRegisterCommand(CLI::App& app) {
                  "register with the classical baseline instead of the pipeline: sift or orb "
                  "(OpenCV keypoints, ratio test, depth lifting, RANSAC; the --method of `zeroreg "
                  "eval`), for comparing whole-process time (scripts/bench-speed.sh)")
-      ->check(CLI::IsMember({"sift", "orb"}));
+      ->check(CLI::IsMember({"sift", "orb"}))
+      ->excludes(prior_option);  // the baselines take no prior
   app.add_flag("--timings", o->timings,
                "print the wall time of every stage on stderr, one per line, from reading the "
                "scans and loading the models to the pictures and files written");

@@ -282,6 +282,11 @@ TEST_F(CliBadInput, MotionPriorFromAFile) {
   ExpectClearError(Run("--prior '" + Path("missing.txt") + "'"), "missing.txt", "");
   ExpectClearError(Run("--prior '" + Path("prior.txt") + "' --prior-max-rotation-deg 0"),
                    "motion prior tolerance", "positive");
+  // A tolerance without a prior, or a prior with the baselines (which take none), is refused.
+  ExpectClearError(Run("--prior-max-translation-m 0.2"), "--prior-max-translation-m",
+                   "requires --prior");
+  ExpectClearError(Run("--prior '" + Path("prior.txt") + "' --baseline sift"), "--prior",
+                   "excludes --baseline");
 }
 
 }  // namespace
