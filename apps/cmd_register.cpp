@@ -1,4 +1,5 @@
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -36,6 +37,17 @@ void PrintTransform(const Transform& T) {
   }
 }
 
+// CLI11 check of a tolerance: a positive, finite number (its own PositiveNumber prints DBL_MAX).
+std::string PositiveNumber(const std::string& text) {
+  double v = 0;
+  try {
+    v = std::stod(text);
+  } catch (const std::exception&) {
+    return "'" + text + "' is not a number; expected a positive number";
+  }
+  return std::isfinite(v) && v > 0 ? "" : "'" + text + "': expected a positive number";
+}
+
 }  // namespace
 
 Runner AddRegisterCommand(CLI::App& app) {
@@ -57,10 +69,12 @@ Runner AddRegisterCommand(CLI::App& app) {
   app.add_option("--prior-max-rotation-deg", o->prior_tolerance.max_rotation_deg,
                  "how far (deg) a valid pose may turn from --prior")
       ->capture_default_str()
+      ->check(PositiveNumber)
       ->needs(prior_option);
   app.add_option("--prior-max-translation-m", o->prior_tolerance.max_translation_m,
                  "how far (m) a valid pose may move from --prior")
       ->capture_default_str()
+      ->check(PositiveNumber)
       ->needs(prior_option);
   app.add_option("--depth-scale", o->depth_scale,
                  "raw depth units per metre (default: the layout's, 1000 or TUM's 5000)");
@@ -106,8 +120,8 @@ Runner AddRegisterCommand(CLI::App& app) {
     };
     // With threads >= 2 the models load while the scans are read, and the two scans are read at
     // once (a fragment is a cloud and six PNGs: ~190 ms one after the other). Errors are reported
-    // in the serial order whatever the thread count: the source's, the target's, --gt's, the
-    // models'.
+    // in the serial order whatever the thread count: the source's, the target's, --prior's,
+    // --gt's, the models'.
     const bool overlap = config.threads >= 2;
     const auto ms_since = [](std::chrono::steady_clock::time_point start) {
       return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

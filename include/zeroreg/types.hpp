@@ -142,6 +142,9 @@ struct CandidateSummary {
 struct RegistrationResult {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
+  // The check (and count test) passed, but the pose lies beyond the caller's MotionPrior, so it
+  // is not valid; false without a prior.
+  bool outside_prior = false;
   std::string reason;  // why valid is false (or a short summary when true)
   std::string path;    // which correspondence source produced the transform, e.g. "image"
   int num_keypoints_source = 0;

@@ -687,6 +687,9 @@ void BindResult(py::module_& m) {
           "4x4 float64 rigid transform mapping source-frame points into the target frame.")
       .def_readonly("valid", &RegistrationResult::valid,
                     "False when the registration failed (see reason); never a silent identity.")
+      .def_readonly("outside_prior", &RegistrationResult::outside_prior,
+                    "True when the check passed but the pose lies beyond the motion prior given "
+                    "to register() (so valid is False).")
       .def_readonly("reason", &RegistrationResult::reason)
       .def_readonly("path", &RegistrationResult::path,
                     "Which correspondence source produced the transform, e.g. 'image'.")

@@ -287,11 +287,11 @@ def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
     near[:3, 3] += [0.05, 0.0, 0.0]
     r = pipeline.register(frame_spec(20), frame_spec(0), prior=near)
     np.testing.assert_array_equal(r.T_target_source, result_20_0_from_paths.T_target_source)
-    assert r.valid and r.reason == result_20_0_from_paths.reason
+    assert r.valid and not r.outside_prior and r.reason == result_20_0_from_paths.reason
     far = gt_20_0.copy()
     far[:3, 3] += [1.0, 0.0, 0.0]
     r = pipeline.register(frame_spec(20), frame_spec(0), prior=far, prior_max_translation_m=0.2)
-    assert not r.valid
+    assert not r.valid and r.outside_prior  # the check passed; the prior refused it
     assert "from the motion prior (tolerance 15.0 deg, 20.0 cm)" in r.reason, r.reason
     with pytest.raises(ValueError) as error:
         pipeline.register(frame_spec(20), frame_spec(0), prior=2 * np.eye(4))
@@ -299,3 +299,6 @@ def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
     with pytest.raises(ValueError) as error:
         pipeline.register(frame_spec(20), frame_spec(0), prior=near, prior_max_rotation_deg=-1)
     assert "motion prior tolerance" in str(error.value)
+    with pytest.raises(TypeError) as error:
+        pipeline.register(frame_spec(20), frame_spec(0), prior=near, prior_max_translation_m=None)
+    assert "prior_max_translation_m" in str(error.value)

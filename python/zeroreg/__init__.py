@@ -101,6 +101,13 @@ def _fields(obj: Any) -> dict:
     return {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
 
 
+def _number(value: Any, where: str) -> float:
+    """A real number argument as a float; anything else (None, a string) is a TypeError naming it."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"{where}: got {type(value).__name__}; expected a number")
+    return float(value)
+
+
 def _native(scan: Any, where: str) -> Union[str, dict, PreparedScan]:
     """A scan as the compiled module takes it: a path string, a dict of dicts or a PreparedScan."""
     if isinstance(scan, PreparedScan):
@@ -174,8 +181,8 @@ class Pipeline:
             _native(source, "source"),
             _native(target, "target"),
             prior,
-            float(prior_max_rotation_deg),
-            float(prior_max_translation_m),
+            _number(prior_max_rotation_deg, "prior_max_rotation_deg"),
+            _number(prior_max_translation_m, "prior_max_translation_m"),
         )
 
     def prepare(self, scan: ScanLike, as_target: bool = True) -> PreparedScan:

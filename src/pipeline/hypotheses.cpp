@@ -30,8 +30,8 @@ PipelineConfig ExtraSourceConfig(const PipelineConfig& config) {
   return e;
 }
 
-// *result becomes `winner`, keeping what belongs to the scans and the method's object level
-// (the objects, their matches, the keypoint counts), which the winner's own run did not fill in.
+}  // namespace
+
 void Adopt(RegistrationResult winner, RegistrationResult* result) {
   winner.source_objects = std::move(result->source_objects);
   winner.target_objects = std::move(result->target_objects);
@@ -41,8 +41,6 @@ void Adopt(RegistrationResult winner, RegistrationResult* result) {
   winner.num_keypoints_target = result->num_keypoints_target;
   *result = std::move(winner);
 }
-
-}  // namespace
 
 bool Disagree(double apart_m, const PipelineConfig& config) {
   return apart_m > config.refine.max_distance_coarse_m;
@@ -339,13 +337,13 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
   // `refusal`: why judge_extra refused it; otherwise a result the check passed that is not valid
   // is one whose refinement is another accepted pose (Refine).
   auto describe = [](const RegistrationResult& r, const std::string& refusal) {
-    const char* verdict =
-        r.valid                                                   ? "valid"
-        : !r.count_test_passed                                    ? "no consensus"
-        : !refusal.empty()                                        ? refusal.c_str()
-        : r.reason.find(kFromTheMotionPrior) != std::string::npos ? "outside the motion prior"
-        : r.verification.passed ? "not valid: another pose passes the check as well"
-                                : "refused by the check";
+    const char* verdict = r.valid                ? "valid"
+                          : !r.count_test_passed ? "no consensus"
+                          : !refusal.empty()     ? refusal.c_str()
+                          : r.outside_prior      ? "outside the motion prior"
+                          : r.verification.passed
+                              ? "not valid: another pose passes the check as well"
+                              : "refused by the check";
     char line[200];
     std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(), verdict,
                   r.verification.score);

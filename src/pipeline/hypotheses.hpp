@@ -27,9 +27,9 @@
 
 namespace zeroreg {
 
-// Words of the reason of a result made invalid by the caller's motion prior (ApplyPrior,
-// register.cpp), which the summary of the hypotheses reports as such.
-inline constexpr const char* kFromTheMotionPrior = "from the motion prior";
+// *result becomes `winner`, keeping what belongs to the scans and the method's object level
+// (the objects, their matches, the keypoint counts), which the winner's own run did not fill in.
+void Adopt(RegistrationResult winner, RegistrationResult* result);
 
 // Estimates a transform from `correspondences` under `effective`, applies the geometric check and
 // the ICP refinement, and returns the finished result with path = `path`.

@@ -541,6 +541,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
   json j{{"zeroreg_version", ZEROREG_VERSION},
          {"T_target_source", TransformToJson(r.T_target_source)},
          {"valid", r.valid},
+         {"outside_prior", r.outside_prior},
          {"reason", r.reason},
          {"path", r.path},
          {"counts",

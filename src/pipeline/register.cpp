@@ -18,6 +18,7 @@
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
+#include "io/text_parsing.hpp"
 #include "object_match/result_support.hpp"
 #include "parallel/run_both.hpp"
 #include "pipeline/hypotheses.hpp"
@@ -447,23 +448,16 @@ void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMo
 // by name (InputError) rather than silently making every result invalid.
 void CheckPrior(const std::optional<MotionPrior>& prior) {
   if (!prior) return;
-  const Transform& T = prior->T_target_source;
-  const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
-  const bool rigid =
-      T.allFinite() && T.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1)) &&
-      (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3 &&
-      R.determinant() > 0;
-  if (!rigid) {
-    throw MakeInputError("motion prior T_target_source",
-                         "is not a rigid transform; expected a 4x4 matrix [R t; 0 0 0 1] with R a "
-                         "rotation (orthonormal, determinant +1)");
-  }
+  // The same test (and tolerances) as every pose file (ReadPoseFile): what reads as a pose is
+  // accepted as a prior.
+  detail::CheckRigid(prior->T_target_source, "motion prior T_target_source");
   const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   if (!positive(prior->max_rotation_deg) || !positive(prior->max_translation_m)) {
+    std::ostringstream given;
+    given << "max_rotation_deg " << prior->max_rotation_deg << ", max_translation_m "
+          << prior->max_translation_m;
     throw MakeInputError("motion prior tolerance",
-                         "max_rotation_deg " + std::to_string(prior->max_rotation_deg) +
-                             ", max_translation_m " + std::to_string(prior->max_translation_m) +
-                             ": expected positive numbers (degrees, metres)");
+                         given.str() + ": expected positive numbers (degrees, metres)");
   }
 }
 
@@ -488,12 +482,13 @@ void ApplyPrior(const std::optional<MotionPrior>& prior, RegistrationResult* r) 
   if (!prior || !r->valid) return;
   const PriorDistance d = DistanceFromPrior(*prior, r->T_target_source);
   if (!d.beyond) return;
-  const double turned_deg = d.turned_deg, moved_m = d.moved_m;
   r->valid = false;
+  r->outside_prior = true;
   char note[200];
   std::snprintf(note, sizeof(note),
-                "; not valid: %.1f deg and %.1f cm %s (tolerance %.1f deg, %.1f cm)", turned_deg,
-                moved_m * 100, kFromTheMotionPrior, prior->max_rotation_deg,
+                "; not valid: %.1f deg and %.1f cm from the motion prior (tolerance %.1f deg, "
+                "%.1f cm)",
+                d.turned_deg, d.moved_m * 100, prior->max_rotation_deg,
                 prior->max_translation_m * 100);
   r->reason += note;
 }
@@ -504,7 +499,12 @@ void ApplyPrior(const std::optional<MotionPrior>& prior, RegistrationResult* r) 
 // depth: the prior's tolerance bounds how far it may slide. Taken only when valid.
 void JudgePriorPose(const Prepared& source, const Prepared& target, const PipelineConfig& config,
                     const MotionPrior& prior, RegistrationResult* result) {
-  if (!config.verify.enabled) return;  // without the check nothing could judge it
+  if (!config.verify.enabled) {
+    result->reason +=
+        " [motion prior: ICP from it not tried: verify.enabled is false, so nothing "
+        "could judge where it lands]";
+    return;
+  }
   RegistrationResult r;
   r.path = "prior";
   r.T_target_source = prior.T_target_source;
@@ -532,12 +532,7 @@ void JudgePriorPose(const Prepared& source, const Prepared& target, const Pipeli
   if (r.valid) {
     r.reason +=
         " [no source gave a valid pose within the motion prior; before it: " + result->reason + "]";
-    r.object_matches.clear();
-    r.source_objects = result->source_objects;
-    r.target_objects = result->target_objects;
-    r.num_keypoints_source = result->num_keypoints_source;
-    r.num_keypoints_target = result->num_keypoints_target;
-    *result = std::move(r);
+    Adopt(std::move(r), result);
   } else {
     result->reason += " [motion prior: ICP from it is not valid either: " + r.reason + "]";
   }

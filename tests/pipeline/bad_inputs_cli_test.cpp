@@ -281,7 +281,7 @@ TEST_F(CliBadInput, MotionPriorFromAFile) {
   EXPECT_NE(scaled.output.find("scaled.txt"), std::string::npos) << scaled.output;
   ExpectClearError(Run("--prior '" + Path("missing.txt") + "'"), "missing.txt", "");
   ExpectClearError(Run("--prior '" + Path("prior.txt") + "' --prior-max-rotation-deg 0"),
-                   "motion prior tolerance", "positive");
+                   "--prior-max-rotation-deg", "expected a positive number");
   // A tolerance without a prior, or a prior with the baselines (which take none), is refused.
   ExpectClearError(Run("--prior-max-translation-m 0.2"), "--prior-max-translation-m",
                    "requires --prior");

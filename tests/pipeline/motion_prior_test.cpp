@@ -64,6 +64,7 @@ TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
   const RealPair p = LoadPair("tum-fr3-cabinet", 7, 39);
   const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
   EXPECT_FALSE(with.valid && !Right(with, p.gt)) << with.path << ": " << with.reason;
+  EXPECT_TRUE(with.outside_prior) << with.reason;  // the flip passed the check, beyond the prior
   EXPECT_NE(with.reason.find("from the motion prior (tolerance 15.0 deg, 30.0 cm)"),
             std::string::npos)
       << with.reason;
@@ -94,6 +95,22 @@ TEST(MotionPrior, IcpFromThePriorRegistersTheSymmetricTable) {
       Pipeline(one_thread).Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
   EXPECT_EQ(serial.T_target_source, with.T_target_source);
   EXPECT_EQ(serial.path, with.path);
+}
+
+// hololens-office 135 <- 51 (6 % co-visible): a wall. ICP from a prior near the truth slides 35 cm
+// along it, and the check accepts where it lands; nothing but correspondences could fix that
+// motion, and ICP from the prior has none. With a tolerance wide enough to hold the slid pose,
+// the degenerate geometry alone refuses it.
+TEST(MotionPrior, IcpFromThePriorIsNotValidInDegenerateGeometry) {
+  const RealPair p = LoadPair("hololens-office", 51, 135);
+  const Pipeline pipeline{PipelineConfig()};
+  const RegistrationResult r =
+      pipeline.Register(p.source, p.target, MotionPrior{NearTruth(p.gt), 15.0, 1.0});
+  EXPECT_FALSE(r.valid) << r.path << ": " << r.reason;
+  EXPECT_NE(r.reason.find("ICP from it is not valid either"), std::string::npos) << r.reason;
+  EXPECT_NE(r.reason.find("the geometry is degenerate and no correspondence fixes"),
+            std::string::npos)
+      << r.reason;
 }
 
 // A result inside the prior is the result without it, bit for bit.
@@ -131,7 +148,8 @@ TEST(MotionPrior, APriorThatIsNotRigidOrAToleranceThatIsNotPositiveIsRefusedByNa
       << message(scaled);
   MotionPrior mirrored;
   mirrored.T_target_source(0, 0) = -1.0;
-  EXPECT_NE(message(mirrored).find("not a rigid transform"), std::string::npos);
+  EXPECT_NE(message(mirrored).find("rotation is not rigid"), std::string::npos)
+      << message(mirrored);
   MotionPrior nan_row;
   nan_row.T_target_source(3, 0) = std::nan("");
   EXPECT_NE(message(nan_row).find("motion prior T_target_source"), std::string::npos);
