@@ -3,8 +3,10 @@
 // reused by every later pair that names it, by any runner thread.
 //
 // Bounded two ways, least recently used first out: at most `max_scans` prepared scans and at most
-// `max_bytes` of what they hold (PreparedScan::MemoryBytes: images, features, masks, clouds); the
-// scan being returned is never evicted by its own insertion. Thread-safe; when two threads ask for
+// `max_bytes` of what they hold (PreparedScan::MemoryBytes: images, features, masks, clouds),
+// checked at each insertion; a scan that grows afterwards (its turned images' features) can take
+// the cache over `max_bytes` until the next insertion re-reads the sizes. The scan being
+// returned is never evicted by its own insertion. Thread-safe; when two threads ask for
 // the same key at once, one prepares it and the other waits for that.
 #pragma once
 
