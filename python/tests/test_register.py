@@ -293,6 +293,11 @@ def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
     r = pipeline.register(frame_spec(20), frame_spec(0), prior=far, prior_max_translation_m=0.2)
     assert not r.valid and r.outside_prior  # the check passed; the prior refused it
     assert "from the motion prior (tolerance 15.0 deg, 20.0 cm)" in r.reason, r.reason
+    # The prior refused the method's estimate, so the fallback and every hypothesis ran, each
+    # refused by the prior too, and ICP from the prior (1 m off) found no agreement.
+    for source in ("image-fallback", "object clique", "geometry clique"):
+        assert f"{source}: outside the motion prior" in r.reason, r.reason
+    assert "[motion prior: ICP from it is not valid either" in r.reason, r.reason
     with pytest.raises(ValueError) as error:
         pipeline.register(frame_spec(20), frame_spec(0), prior=2 * np.eye(4))
     assert "prior" in str(error.value)
