@@ -25,20 +25,18 @@
 
 #include <Eigen/Core>
 
-#include "zeroreg/config.hpp"
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "object_match/hungarian.hpp"
+#include "zeroreg/config.hpp"
 
 namespace zeroreg {
-
 
 // "auto", "exact", "approximate", "node_only"; throws InputError for anything else.
 ObjectMatchSolver ObjectMatchSolverFromString(const std::string& name);
 std::string ToString(ObjectMatchSolver solver);
-
 
 struct ObjectPair {
   int source = -1;               // row of W^p / C
