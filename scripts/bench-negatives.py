@@ -115,12 +115,12 @@ def main():
     ap.add_argument("--prior-error", type=float, nargs=2, metavar=("DEG", "M"),
                     help="register every pair with a motion prior this far from the truth "
                     "(cross-scene pairs: from the identity)")
-    ap.add_argument("--prior-tolerance", type=float, nargs=2, default=[15.0, 0.30],
-                    metavar=("DEG", "M"), help="the prior's tolerance (default 15 deg, 0.3 m)")
+    ap.add_argument("--prior-tolerance", type=float, nargs=2, metavar=("DEG", "M"),
+                    help="the prior's tolerance (default 15 deg, 0.3 m)")
     args = ap.parse_args()
-    tolerance_given = any(a.startswith("--prior-tolerance") for a in sys.argv[1:])
-    if tolerance_given and not args.prior_error:
+    if args.prior_tolerance and not args.prior_error:
         sys.exit("--prior-tolerance: needs --prior-error (without a prior there is no tolerance)")
+    args.prior_tolerance = args.prior_tolerance or [15.0, 0.30]
     if args.prior_error and (min(args.prior_error) < 0 or min(args.prior_tolerance) <= 0):
         sys.exit(f"--prior-error {args.prior_error} / --prior-tolerance {args.prior_tolerance}: "
                  "expected errors >= 0 and tolerances > 0 (degrees, metres)")

@@ -304,8 +304,7 @@ void JudgeMoreHypotheses(const Scan& source, const Scan& target, const PipelineC
                             std::move(turned.correspondences), config));
       refused.emplace_back();
     } else {
-      const int best_turned = *std::max_element(o.begin() + 1, o.end());
-      turned_scores += best_turned > o[0]
+      turned_scores += turned.best_turn > 0
                            ? ", none matched: fewer than " + std::to_string(h.turned_min_matches) +
                                  " for the best turn"
                            : ", no turn above the unturned images";

@@ -217,6 +217,7 @@ TurnedWholeImage MatchTurnedWholeImages(const TurnedFeatures& source_turned,
       out.quarter_turns = q;
     }
   }
+  out.best_turn = out.quarter_turns;
   if (out.overlap_scores[static_cast<size_t>(out.quarter_turns)] < min_score) {
     out.quarter_turns = 0;
   }

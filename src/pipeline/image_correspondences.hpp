@@ -77,6 +77,7 @@ TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Sc
 // distinctive matches than the others.
 struct TurnedWholeImage {
   int quarter_turns = 0;  // the turn matched; 0: none scores above the unturned and min_score
+  int best_turn = 0;      // the best-scoring turn (0: the unturned images), min_score or not
   std::array<int, 4> overlap_scores{};          // per turn 0-3 (0 = unturned)
   std::vector<Correspondence> correspondences;  // the matched turn's; empty for 0
 };

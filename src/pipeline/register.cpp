@@ -102,6 +102,9 @@ void CheckScan(const Scan& scan, const std::string& role) {
 // Decides the verdict from the estimator's counts (RansacConfig documents the thresholds).
 void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
   r->valid = false;
+  // A new verdict: a result copied from another (the fallback from the method's) does not keep
+  // the other's ApplyPrior flag.
+  r->outside_prior = false;
   std::ostringstream why;
   if (r->num_correspondences < 3) {
     why << "only " << r->num_correspondences
@@ -348,6 +351,7 @@ void Refine(const Prepared& source, const Prepared& target, const PipelineConfig
       return;
     }
     refined.valid = refined.verification.passed;
+    refined.outside_prior = false;  // a new verdict (ApplyPrior decides it again)
     refined.reason = refined.verification.reason;
   }
   std::snprintf(note, sizeof(note),
