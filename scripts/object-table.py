@@ -14,6 +14,12 @@ Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shar
   fifth of either object's 3D points within 5 cm of the other's; src/eval/object_match_metrics.hpp),
   over the records that carry it ("-" for runs made before it was recorded): a partly seen object
   shifts its centroid, not its surface;
+- matchable / pair: the most right matches these objects allow (`objects.matchable`, issue 11's
+  ceiling): the largest one-to-one set of source/target object pairs with equal labels whose
+  centroids agree within 0.3 m under the ground truth; no matcher can get more right from what
+  the detectors found ("-" for runs made before it was recorded);
+- recall: correct matches over matchable pairs (what the matching makes of what perception gave);
+- matchable by surface / pair: the same with the surface test instead of the centroids;
 - object path: share of pairs whose returned transform came from the object path;
 - rot@5 / trans@5 / success: RE < 5 deg, TE < 5 cm, and RE < 15 deg with TE < 30 cm;
 - valid-wrong: pairs the method called valid that are not a success;
@@ -44,6 +50,8 @@ def summarise(records):
         return None
     objects = views = matches = correct = 0
     surface_matches = same_surface = 0
+    matchable_pairs = matchable = matchable_correct = 0
+    surface_pairs = matchable_surface = 0
     for r in done:
         o = r.get("objects", {})
         objects += o.get("source", 0) + o.get("target", 0)
@@ -53,6 +61,13 @@ def summarise(records):
         if "same_surface" in o:
             surface_matches += o.get("matches", 0)
             same_surface += o["same_surface"]
+        if "matchable" in o:
+            matchable_pairs += 1
+            matchable += o["matchable"]
+            matchable_correct += o.get("correct", 0)
+        if "matchable_same_surface" in o:
+            surface_pairs += 1
+            matchable_surface += o["matchable_same_surface"]
     success = [r["rotation_error_deg"] < 15 and r["translation_error_m"] < 0.30 for r in done]
     return {
         "pairs": n,
@@ -61,6 +76,10 @@ def summarise(records):
         "precision": correct / matches if matches else None,
         "same_surface": same_surface / surface_matches if surface_matches else None,
         "correct_per_pair": correct / n,
+        # Records without objects carry no "matchable": none can be matched there.
+        "matchable_per_pair": matchable / n if matchable_pairs else None,
+        "recall": matchable_correct / matchable if matchable else None,
+        "matchable_surface_per_pair": matchable_surface / n if surface_pairs else None,
         "object_path": sum(r.get("path") == "object" for r in done) / n,
         "rot5": sum(r["rotation_error_deg"] < 5 for r in done) / n,
         "trans5": sum(r["translation_error_m"] < 0.05 for r in done) / n,
@@ -72,6 +91,10 @@ def summarise(records):
 
 def pct(x):
     return "-" if x is None else f"{100.0 * x:.1f}"
+
+
+def per_pair(x):
+    return "-" if x is None else f"{x:.2f}"
 
 
 def main():
@@ -106,13 +129,16 @@ def main():
         sys.exit(f"object-table: no RESULTS/<setup>/<list>/pairs.jsonl under {args.results}")
     table.sort(key=lambda t: (t[0], t[1]))
     lines = ["| list | setup | pairs | objects / view | matches / pair | precision (%) | "
-             "same surface (%) | correct / pair | object path (%) | rot@5 (%) | trans@5cm (%) | success (%) | "
+             "same surface (%) | correct / pair | matchable / pair | recall (%) | "
+             "matchable by surface / pair | object path (%) | rot@5 (%) | trans@5cm (%) | success (%) | "
              "valid-wrong | median (ms) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for lst, setup, s in table:
         lines.append(f"| {lst} | {setup} | {s['pairs']} | {s['objects_per_view']:.2f} | "
                      f"{s['matches_per_pair']:.2f} | {pct(s['precision'])} | "
-                     f"{pct(s['same_surface'])} | {s['correct_per_pair']:.2f} | {pct(s['object_path'])} | {pct(s['rot5'])} | "
+                     f"{pct(s['same_surface'])} | {s['correct_per_pair']:.2f} | "
+                     f"{per_pair(s['matchable_per_pair'])} | {pct(s['recall'])} | "
+                     f"{per_pair(s['matchable_surface_per_pair'])} | {pct(s['object_path'])} | {pct(s['rot5'])} | "
                      f"{pct(s['trans5'])} | {pct(s['success'])} | {s['valid_wrong']} | "
                      f"{s['median_ms']:.0f} |")
     text = "\n".join(lines) + "\n"

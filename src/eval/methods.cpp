@@ -100,10 +100,14 @@ class ZeroregMethod : public PairMethod {
     out.path = r.path;
     out.correspondences = std::move(r.correspondences);
     out.num_inliers = r.num_inliers;
-    for (const ObjectSummary& o : r.source_objects)
+    for (const ObjectSummary& o : r.source_objects) {
       out.source_object_centroids.push_back(o.centroid);
-    for (const ObjectSummary& o : r.target_objects)
+      out.source_object_labels.push_back(o.label);
+    }
+    for (const ObjectSummary& o : r.target_objects) {
       out.target_object_centroids.push_back(o.centroid);
+      out.target_object_labels.push_back(o.label);
+    }
     for (const ObjectMatchSummary& m : r.object_matches)
       out.object_matches.push_back({m.source, m.target});
     // The objects' surfaces, for the surface measure of the matches (moved: `r` is ours).

@@ -11,6 +11,8 @@
 //   counter, other end".
 #pragma once
 
+#include <functional>
+#include <string>
 #include <vector>
 
 #include "zeroreg/types.hpp"
@@ -41,5 +43,22 @@ struct SameSurfaceTest {
 bool SameSurface(const std::vector<Eigen::Vector3d>& source_surface,
                  const std::vector<Eigen::Vector3d>& target_surface,
                  const Transform& T_target_source, const SameSurfaceTest& test = {});
+
+// The most right matches any matcher could return from the objects perception gave (issue 11's
+// ceiling): the size of the largest one-to-one set of (source, target) object pairs with equal
+// labels (the paper's label rule, LabelCompatibilityMask) that `right(source, target)` accepts.
+// Objects no detector found, or found under different labels in the two scans, are not in it, so
+// "correct matches / matchable pairs" is the matcher's recall and "matchable pairs" bounds what
+// better matching alone can add.
+struct MatchableObjects {
+  const std::vector<std::string>& source_labels;
+  const std::vector<std::string>& target_labels;
+};
+int CountMatchableObjectPairs(const MatchableObjects& objects,
+                              const std::function<bool(int source, int target)>& right);
+
+// The largest one-to-one set of edges of a bipartite graph given as rows x columns booleans
+// (augmenting paths; the graphs here have tens of nodes).
+int MaximumBipartiteMatching(const std::vector<std::vector<bool>>& edges, int columns);
 
 }  // namespace zeroreg

@@ -110,6 +110,28 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
       ++r.object_matches_same_surface;
     }
   }
+  const bool labels = output.source_object_labels.size() == output.source_object_centroids.size() &&
+                      output.target_object_labels.size() == output.target_object_centroids.size() &&
+                      r.objects_source + r.objects_target > 0;
+  if (labels) {
+    const MatchableObjects objects{output.source_object_labels, output.target_object_labels};
+    r.object_pairs_matchable = CountMatchableObjectPairs(objects, [&](int s, int t) {
+      const Eigen::Vector3d moved =
+          (T_gt * output.source_object_centroids[static_cast<std::size_t>(s)].homogeneous())
+              .head<3>();
+      return (moved - output.target_object_centroids[static_cast<std::size_t>(t)]).norm() <
+             kObjectMatchToleranceM;
+    });
+    const bool have_surfaces =
+        output.source_object_surfaces.size() == output.source_object_centroids.size() &&
+        output.target_object_surfaces.size() == output.target_object_centroids.size();
+    if (have_surfaces) {
+      r.object_pairs_matchable_same_surface = CountMatchableObjectPairs(objects, [&](int s, int t) {
+        return SameSurface(output.source_object_surfaces[static_cast<std::size_t>(s)],
+                           output.target_object_surfaces[static_cast<std::size_t>(t)], T_gt);
+      });
+    }
+  }
   return r;
 }
 
@@ -156,6 +178,9 @@ json PairRecordToJson(const PairRecord& r) {
                     {"matches", r.object_matches},    {"correct", r.object_matches_correct}};
     if (r.object_matches_same_surface >= 0)
       j["objects"]["same_surface"] = r.object_matches_same_surface;
+    if (r.object_pairs_matchable >= 0) j["objects"]["matchable"] = r.object_pairs_matchable;
+    if (r.object_pairs_matchable_same_surface >= 0)
+      j["objects"]["matchable_same_surface"] = r.object_pairs_matchable_same_surface;
   }
   if (r.recall_error) j["recall_error"] = *r.recall_error;
   if (!r.error.empty()) j["error"] = r.error;
@@ -197,6 +222,9 @@ PairRecord PairRecordFromJson(const json& j, const std::string& where) {
     r.object_matches = Get<int>(o, "matches", at);
     r.object_matches_correct = Get<int>(o, "correct", at);
     if (o.contains("same_surface")) r.object_matches_same_surface = Get<int>(o, "same_surface", at);
+    if (o.contains("matchable")) r.object_pairs_matchable = Get<int>(o, "matchable", at);
+    if (o.contains("matchable_same_surface"))
+      r.object_pairs_matchable_same_surface = Get<int>(o, "matchable_same_surface", at);
   }
   return r;
 }

@@ -73,6 +73,12 @@ struct PairRecord {
   // Of the matched pairs, those whose visible surfaces coincide under T_gt (SameSurface,
   // eval/object_match_metrics.hpp); -1 when the method gave no object surfaces.
   int object_matches_same_surface = -1;
+  // The most right matches the objects allow (CountMatchableObjectPairs): one-to-one pairs of
+  // equal labels whose centroids agree within kObjectMatchToleranceM under T_gt, and those whose
+  // surfaces coincide under it (SameSurface); -1 when the method gave no object labels (resp.
+  // surfaces).
+  int object_pairs_matchable = -1;
+  int object_pairs_matchable_same_surface = -1;
 };
 
 // Rounds every entry like WriteLogFile's "%15.8e" does.
@@ -89,6 +95,8 @@ struct MethodOutput {
   // zeroreg only: the object level's result (empty for other methods).
   std::vector<Eigen::Vector3d> source_object_centroids, target_object_centroids;
   std::vector<std::pair<int, int>> object_matches;  // (source row, target row)
+  // Per object, its label (for the matchable pairs); empty when the method has none.
+  std::vector<std::string> source_object_labels, target_object_labels;
   // Per object, its surface points in the scan frame (ObjectSummary::points), for the surface
   // measure of the object matches; empty when the method has none.
   std::vector<std::vector<Eigen::Vector3d>> source_object_surfaces, target_object_surfaces;

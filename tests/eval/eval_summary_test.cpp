@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "eval/fragments.hpp"
+#include "eval/object_match_metrics.hpp"
 #include "eval/protocols.hpp"
 #include "eval/records.hpp"
 #include "eval/summary.hpp"
@@ -303,6 +304,51 @@ TEST(EvalRecords, ObjectMatchMeasuresAreScoredAndRoundTrip) {
   EXPECT_EQ(with.object_matches_same_surface, 1);
   const PairRecord back = PairRecordFromJson(PairRecordToJson(with), "test");
   EXPECT_EQ(back.object_matches_same_surface, 1);
+  EXPECT_EQ(PairRecordToJson(back), PairRecordToJson(with));
+}
+
+// The matchable pairs (issue 11's ceiling) are a maximum one-to-one matching, not a greedy one:
+// source 0 may go to target 0 or 1, source 1 only to target 0, so only re-seating source 0 on
+// target 1 gives both.
+TEST(EvalRecords, MatchableObjectPairsAreAMaximumOneToOneMatching) {
+  EXPECT_EQ(MaximumBipartiteMatching({{true, true}, {true, false}}, 2), 2);
+  EXPECT_EQ(MaximumBipartiteMatching({{true, false}, {true, false}}, 2), 1);
+  EXPECT_EQ(MaximumBipartiteMatching({}, 3), 0);
+  EXPECT_EQ(MaximumBipartiteMatching({{false, false, false}}, 3), 0);
+  const std::vector<std::string> source{"cup", "cup", "chair"}, target{"cup", "chair", "chair"};
+  const MatchableObjects objects{source, target};
+  // Every pair "right": labels allow cup-cup, chair-chair twice over one source chair.
+  EXPECT_EQ(CountMatchableObjectPairs(objects, [](int, int) { return true; }), 2);
+  // Only differently labelled pairs right: none can be matched under the label rule.
+  EXPECT_EQ(CountMatchableObjectPairs(objects, [&](int s, int t) { return source[s] != target[t]; }),
+            0);
+}
+
+// ScorePair counts the matchable pairs from the method's labels and centroids (and surfaces),
+// and leaves them out (-1, not in the JSON) when the method gave no labels.
+TEST(EvalRecords, MatchablePairsAreScoredFromLabelsAndRoundTrip) {
+  const Transform gt = Pose(10, 0.5, 0, 0);
+  const PairTask t = MatchTask("3DMatch", 3, 7, gt);
+  MethodOutput out = Output(gt, {});
+  const auto move = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+    return (gt * p.homogeneous()).head<3>();
+  };
+  const Eigen::Vector3d a(0, 0, 2), b(1, 0, 2), c(0, 1, 2);
+  out.source_object_centroids = {a, b, c};
+  // Target: a where it should be, b 1 m off, c in place but under another label.
+  out.target_object_centroids = {move(a), move(b) + Eigen::Vector3d(0, 1, 0), move(c)};
+  out.object_matches = {{1, 1}};  // a wrong match
+  const PairRecord without = ScorePair(t, "zeroreg", out, gt, 1.0);
+  EXPECT_EQ(without.object_pairs_matchable, -1);
+  EXPECT_FALSE(PairRecordToJson(without)["objects"].contains("matchable"));
+  out.source_object_labels = {"cup", "cup", "chair"};
+  out.target_object_labels = {"cup", "cup", "table"};
+  const PairRecord with = ScorePair(t, "zeroreg", out, gt, 1.0);
+  EXPECT_EQ(with.object_matches_correct, 0);
+  EXPECT_EQ(with.object_pairs_matchable, 1);               // a-a only
+  EXPECT_EQ(with.object_pairs_matchable_same_surface, -1);  // no surfaces
+  const PairRecord back = PairRecordFromJson(PairRecordToJson(with), "test");
+  EXPECT_EQ(back.object_pairs_matchable, 1);
   EXPECT_EQ(PairRecordToJson(back), PairRecordToJson(with));
 }
 
