@@ -40,7 +40,7 @@ std::vector<Proposal> DepthProposals(const cv::Mat& depth_m, double relative_jum
     cv::resize(small, p.mask, depth_m.size(), 0, 0, cv::INTER_NEAREST);
     const cv::Rect box = cv::boundingRect(p.mask);
     p.detection.box = cv::Rect2f(box);
-    p.detection.label = "object";
+    p.detection.label = kProposalLabel;
     p.detection.score = static_cast<float>(area);
     proposals.push_back(std::move(p));
   }

@@ -14,6 +14,10 @@
 
 namespace zeroreg {
 
+// The label every proposal carries: no class, so no CLIP row either (matched by label equality
+// and appearance).
+inline constexpr const char* kProposalLabel = "object";
+
 struct Proposal {
   Detection detection;  // label "object", score = the region's share of the valid depth
   cv::Mat mask;         // CV_8UC1, image size

@@ -221,7 +221,8 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       o.points = LiftMask(view, o.mask, config_.objects, lift);
       if (static_cast<int>(o.points.size()) < config_.objects.min_points) continue;
       o.appearance = pooler ? pooler->Pool(o.mask) : ColourAppearance(view.color, o.mask);
-      if (embedder_ != nullptr && o.semantic.size() == 0) {
+      // A proposal has no class to look up (the embedder would warn that "object" is in no table).
+      if (embedder_ != nullptr && o.semantic.size() == 0 && o.detection.label != kProposalLabel) {
         std::lock_guard<std::mutex> lock(embedder_mutex_);
         if (auto e = embedder_->Embed(o.detection.label)) o.semantic = e->cast<double>();
       }

@@ -320,8 +320,8 @@ TEST(EvalRecords, MatchableObjectPairsAreAMaximumOneToOneMatching) {
   // Every pair "right": labels allow cup-cup, chair-chair twice over one source chair.
   EXPECT_EQ(CountMatchableObjectPairs(objects, [](int, int) { return true; }), 2);
   // Only differently labelled pairs right: none can be matched under the label rule.
-  EXPECT_EQ(CountMatchableObjectPairs(objects, [&](int s, int t) { return source[s] != target[t]; }),
-            0);
+  EXPECT_EQ(
+      CountMatchableObjectPairs(objects, [&](int s, int t) { return source[s] != target[t]; }), 0);
 }
 
 // ScorePair counts the matchable pairs from the method's labels and centroids (and surfaces),
@@ -345,7 +345,7 @@ TEST(EvalRecords, MatchablePairsAreScoredFromLabelsAndRoundTrip) {
   out.target_object_labels = {"cup", "cup", "table"};
   const PairRecord with = ScorePair(t, "zeroreg", out, gt, 1.0);
   EXPECT_EQ(with.object_matches_correct, 0);
-  EXPECT_EQ(with.object_pairs_matchable, 1);               // a-a only
+  EXPECT_EQ(with.object_pairs_matchable, 1);                // a-a only
   EXPECT_EQ(with.object_pairs_matchable_same_surface, -1);  // no surfaces
   const PairRecord back = PairRecordFromJson(PairRecordToJson(with), "test");
   EXPECT_EQ(back.object_pairs_matchable, 1);
