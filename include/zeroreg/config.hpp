@@ -160,6 +160,15 @@ struct ObjectMatchConfig {
   // (0.04 fewer on the fragments), and raised precision on six frame lists by 1-4 points more.
   // false = off.
   bool motion_agreement = true;
+  // After the motion agreement, when it found a consensus (a strict majority of at least two
+  // matches moving together): the label-compatible pairs of objects that no kept match uses, with
+  // a point support of at least 4, join the matches when their own motion agrees with every kept
+  // match's, the best supported first, one to one (src/object_match/motion_agreement.hpp,
+  // CompleteByMotion). Eq. 2 tells two chairs of one view apart by structure and appearance only,
+  // and at wide baselines gives one the other's partner; the motion agreement then drops that
+  // match, and this puts the chair with the partner its own point matches move with. Uses only
+  // the object pairs' own motions (no transform of the result). false = off (docs/MATCHING.md).
+  bool complete_by_motion = false;
   // Once the result is valid, keep only the object matches the returned transform supports: it
   // brings at least 4 of the match's point matches together (within twice
   // ransac.inlier_threshold_m), or under it the two objects' surfaces coincide (a fifth of either's

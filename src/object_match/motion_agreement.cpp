@@ -1,6 +1,9 @@
 #include "object_match/motion_agreement.hpp"
 
+#include <algorithm>
 #include <numeric>
+#include <set>
+#include <tuple>
 
 #include "estimate/max_clique.hpp"
 #include "estimate/rigid_ransac.hpp"
@@ -44,10 +47,16 @@ int CountCarried(const Transform& T, const MatchMotion& points, double threshold
 
 std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,
                                          double threshold_m) {
-  const int n = static_cast<int>(motions.size());
-  std::vector<int> all(n);
+  std::vector<int> consensus = MatchesInConsensus(motions, threshold_m);
+  if (!consensus.empty()) return consensus;
+  std::vector<int> all(motions.size());
   std::iota(all.begin(), all.end(), 0);
-  if (n < 2) return all;
+  return all;
+}
+
+std::vector<int> MatchesInConsensus(const std::vector<MatchMotion>& motions, double threshold_m) {
+  const int n = static_cast<int>(motions.size());
+  if (n < 2) return {};
   std::vector<std::vector<int>> agree(n);
   for (int i = 0; i < n; ++i) {
     for (int j = i + 1; j < n; ++j) {
@@ -59,8 +68,48 @@ std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions
   }
   // A handful of matches: the exact search finishes in a few nodes.
   const CliqueSearchResult largest = MaximumClique(agree, 1000000);
-  if (2 * static_cast<int>(largest.clique.size()) <= n) return all;  // no strict majority
+  // No strict majority (a clique of one is no agreement): nothing is decided.
+  if (largest.clique.size() < 2 || 2 * static_cast<int>(largest.clique.size()) <= n) return {};
   return largest.clique;
+}
+
+std::vector<int> CompleteByMotion(const std::vector<MotionCandidate>& consensus,
+                                  const std::vector<MotionCandidate>& candidates, int min_inliers,
+                                  double threshold_m) {
+  if (consensus.empty()) return {};
+  std::set<int> used_source, used_target;
+  for (const MotionCandidate& m : consensus) {
+    used_source.insert(m.source);
+    used_target.insert(m.target);
+  }
+  std::vector<int> order;
+  for (int i = 0; i < static_cast<int>(candidates.size()); ++i) {
+    if (static_cast<int>(candidates[static_cast<size_t>(i)].motion.source.size()) >= min_inliers)
+      order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    const MotionCandidate& x = candidates[static_cast<size_t>(a)];
+    const MotionCandidate& y = candidates[static_cast<size_t>(b)];
+    if (x.motion.source.size() != y.motion.source.size())
+      return x.motion.source.size() > y.motion.source.size();
+    return std::tie(x.source, x.target) < std::tie(y.source, y.target);
+  });
+  std::vector<const MatchMotion*> members;
+  for (const MotionCandidate& m : consensus) members.push_back(&m.motion);
+  std::vector<int> joined;
+  for (int i : order) {
+    const MotionCandidate& c = candidates[static_cast<size_t>(i)];
+    if (used_source.count(c.source) || used_target.count(c.target)) continue;
+    const bool agrees = std::all_of(members.begin(), members.end(), [&](const MatchMotion* m) {
+      return MotionsAgree(*m, c.motion, threshold_m);
+    });
+    if (!agrees) continue;
+    joined.push_back(i);
+    members.push_back(&c.motion);
+    used_source.insert(c.source);
+    used_target.insert(c.target);
+  }
+  return joined;
 }
 
 }  // namespace zeroreg

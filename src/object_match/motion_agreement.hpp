@@ -32,6 +32,26 @@ bool MotionsAgree(const MatchMotion& a, const MatchMotion& b, double threshold_m
 std::vector<int> MatchesThatMoveTogether(const std::vector<MatchMotion>& motions,
                                          double threshold_m);
 
+// The consensus of MatchesThatMoveTogether: the indices (ascending) of the largest set of at
+// least two matches that agree pairwise, when it holds more than half of them; empty otherwise.
+std::vector<int> MatchesInConsensus(const std::vector<MatchMotion>& motions, double threshold_m);
+
+// A candidate object pair for CompleteByMotion: its objects and its point-support inliers.
+struct MotionCandidate {
+  int source = 0, target = 0;
+  MatchMotion motion;
+};
+
+// Candidates (indices into `candidates`) that join a consensus of matches moving together: a
+// candidate whose objects no consensus match and no earlier joined candidate uses, with at least
+// min_inliers point-support inliers, joins when its motion agrees (MotionsAgree) with every
+// consensus match's and every earlier joined candidate's, so the set stays one that agrees
+// pairwise. Candidates are tried by descending inlier count, then by (source, target). Nothing
+// joins an empty consensus.
+std::vector<int> CompleteByMotion(const std::vector<MotionCandidate>& consensus,
+                                  const std::vector<MotionCandidate>& candidates, int min_inliers,
+                                  double threshold_m);
+
 // How many of the point pairs (source[i], target[i]) motion T carries to within threshold_m.
 int CountCarried(const Transform& T, const MatchMotion& points, double threshold_m);
 

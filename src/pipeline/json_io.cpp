@@ -207,6 +207,7 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
   v("min_point_support", c.min_point_support, AtLeast(0));
   v("motion_agreement", c.motion_agreement);
+  v("complete_by_motion", c.complete_by_motion);
   v("agree_with_result", c.agree_with_result);
   v("restarts", c.restarts, AtLeast(1));
   v("iterations", c.iterations, AtLeast(1));

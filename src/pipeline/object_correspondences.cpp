@@ -347,14 +347,40 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       for (const ObjectPair& pair : pairs) {
         motions.push_back(inside(pair.source, pair.target, true).motion);
       }
-      std::vector<ObjectPair> kept;
       // Twice the inlier threshold: one object's motion carries another's points with both
       // motions' errors (as the clique's length test allows twice the noise bound).
-      for (int i : MatchesThatMoveTogether(motions, 2 * config_.ransac.inlier_threshold_m)) {
-        kept.push_back(pairs[static_cast<size_t>(i)]);
+      const double agreement_m = 2 * config_.ransac.inlier_threshold_m;
+      const std::vector<int> consensus = MatchesInConsensus(motions, agreement_m);
+      if (!consensus.empty()) {
+        std::vector<ObjectPair> kept;
+        for (int i : consensus) kept.push_back(pairs[static_cast<size_t>(i)]);
+        result.rejected_object_matches += static_cast<int>(pairs.size() - kept.size());
+        pairs = std::move(kept);
       }
-      result.rejected_object_matches += static_cast<int>(pairs.size() - kept.size());
-      pairs = std::move(kept);
+      // Then the object pairs Eq. 2 left out whose own motion moves with that consensus (two
+      // chairs of one class given each other's partners: the motion agreement dropped the wrong
+      // one, and its object goes to the partner its point matches move with).
+      if (config_.object_match.complete_by_motion && !consensus.empty()) {
+        std::vector<MotionCandidate> members, left_out;
+        for (const ObjectPair& pair : pairs) {
+          members.push_back(
+              {pair.source, pair.target, inside(pair.source, pair.target, true).motion});
+        }
+        const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
+        for (Eigen::Index j = 0; j < labels_agree.rows(); ++j) {
+          for (Eigen::Index k = 0; k < labels_agree.cols(); ++k) {
+            if (!labels_agree(j, k)) continue;
+            const int source = static_cast<int>(j), target = static_cast<int>(k);
+            left_out.push_back({source, target, inside(source, target, true).motion});
+          }
+        }
+        // At least 4 inliers: three point matches fit some motion whatever they are.
+        const int min_inliers = std::max(4, config_.object_match.min_point_support);
+        for (int i : CompleteByMotion(members, left_out, min_inliers, agreement_m)) {
+          const MotionCandidate& c = left_out[static_cast<size_t>(i)];
+          pairs.push_back({c.source, c.target, C(c.source, c.target)});
+        }
+      }
     }
   }
   timer.Mark("object_match");

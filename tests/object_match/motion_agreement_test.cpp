@@ -65,6 +65,40 @@ TEST(MotionAgreement, WithoutAStrictMajorityEveryMatchStays) {
   EXPECT_TRUE(MatchesThatMoveTogether({}, 0.1).empty());
 }
 
+TEST(MotionAgreement, TheConsensusIsEmptyWhenNothingIsDecided) {
+  EXPECT_EQ(
+      MatchesInConsensus({Right({0, 0, 2}, 1), Wrong({1, 0, 3}, 2), Right({-1, 0.5, 2.5}, 3)}, 0.1),
+      (std::vector<int>{0, 2}));
+  EXPECT_TRUE(MatchesInConsensus({Right({0, 0, 2}, 1), Wrong({1, 0, 3}, 2)}, 0.1).empty());
+  EXPECT_TRUE(MatchesInConsensus({Right({0, 0, 2}, 1)}, 0.1).empty());  // one is no agreement
+  EXPECT_TRUE(MatchesInConsensus({}, 0.1).empty());
+}
+
+// Two chairs of one class: Eq. 2 gave source chair 2 the target chair 5 (the motion agreement
+// dropped it); its right partner, target chair 4, moves with the consensus and joins. A candidate
+// of an object the consensus uses, one moving otherwise and one with three inliers do not.
+TEST(MotionAgreement, CompleteByMotionAddsTheLeftOutPairThatMovesWithTheConsensus) {
+  const std::vector<MotionCandidate> consensus = {{0, 0, Right({0, 0, 2}, 1)},
+                                                  {1, 1, Right({-1, 0.5, 2.5}, 2)}};
+  MotionCandidate few{3, 6, Right({0.3, 0.2, 3}, 7)};
+  few.motion.source.resize(3);
+  few.motion.target.resize(3);
+  const std::vector<MotionCandidate> candidates = {
+      {2, 5, Wrong({1, 0, 3}, 3)},        // the wrong chair: moves otherwise
+      {2, 4, Right({1.1, 0, 3}, 4)},      // the right chair
+      {0, 3, Right({0.2, 0, 2}, 5)},      // source 0 is taken by the consensus
+      few,                                // three inliers fit any motion
+      {3, 4, Right({0.5, -0.8, 4}, 6)}};  // target 4 goes to source 2 first (more inliers)
+  std::vector<MotionCandidate> weaker = candidates;
+  weaker[4].motion.source.resize(20);
+  weaker[4].motion.target.resize(20);
+  EXPECT_EQ(CompleteByMotion(consensus, weaker, 4, 0.1), (std::vector<int>{1}));
+  // The wrong chair alone does not join: its motion is not the consensus's.
+  EXPECT_TRUE(CompleteByMotion(consensus, {candidates[0]}, 4, 0.1).empty());
+  // Without a consensus nothing joins.
+  EXPECT_TRUE(CompleteByMotion({}, candidates, 4, 0.1).empty());
+}
+
 TEST(MotionAgreement, ASmallObjectIsJudgedTogetherWithALargeOne) {
   // A cup of 5 points within 8 cm (its own motion is poorly determined) and a table: one motion
   // fitted to both explains both when they move together, and not when the cup moved elsewhere.
