@@ -162,5 +162,33 @@ TEST(MotionAgreement, RealPairsDropTheMatchThatDoesNotMoveWithTheOthers) {
   }
 }
 
+// Real redkitchen-gap60 pairs where Eq. 2 leaves out object pairs whose point matches move with
+// the consensus of the kept matches: object_match.complete_by_motion adds them, every added match
+// is right (centroids within 0.3 m under the ground truth), and the registration stays as it was.
+TEST(MotionAgreement, RealPairsCompleteByMotionAddsRightMatches) {
+  PipelineConfig on;
+  on.object_match.complete_by_motion = true;
+  const PipelineConfig off;
+  for (const auto& [source_id, target_id] : {std::pair{280, 220}, {270, 210}, {930, 870}}) {
+    SCOPED_TRACE(std::to_string(target_id) + " <- " + std::to_string(source_id));
+    const Scan source = Frame(source_id), target = Frame(target_id);
+    const Transform gt = GroundTruth(source, target);
+    const RegistrationResult before = Register(source, target, off);
+    const RegistrationResult after = Register(source, target, on);
+    const auto right = [&](const RegistrationResult& r) {
+      int n = 0;
+      for (const ObjectMatchSummary& m : r.object_matches) n += CentroidsAgree(r, m, gt);
+      return n;
+    };
+    const int added = static_cast<int>(after.object_matches.size()) -
+                      static_cast<int>(before.object_matches.size());
+    EXPECT_GE(added, 1) << "the pair no longer has a left-out match to add";
+    EXPECT_EQ(right(after), right(before) + added);
+    EXPECT_TRUE(after.valid) << after.reason;
+    EXPECT_LT(TranslationErrorM(after.T_target_source, gt), 0.05);
+    EXPECT_LT(RotationErrorDeg(after.T_target_source, before.T_target_source), 0.5);
+  }
+}
+
 }  // namespace
 }  // namespace zeroreg
