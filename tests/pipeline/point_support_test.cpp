@@ -133,6 +133,7 @@ TEST(MotionAgreement, RealPairsDropTheMatchThatDoesNotMoveWithTheOthers) {
   // drop the same wrong match after the fact: off here, to see the agreement alone.
   PipelineConfig on;
   on.object_match.agree_with_result = false;
+  on.object_match.complete_by_motion = false;  // it would add pairs after the agreement
   PipelineConfig off = on;
   off.object_match.motion_agreement = false;
   PipelineConfig without_support = on;  // the motions are measured for the chosen pairs then
@@ -166,9 +167,10 @@ TEST(MotionAgreement, RealPairsDropTheMatchThatDoesNotMoveWithTheOthers) {
 // the consensus of the kept matches: object_match.complete_by_motion adds them, every added match
 // is right (centroids within 0.3 m under the ground truth), and the registration stays as it was.
 TEST(MotionAgreement, RealPairsCompleteByMotionAddsRightMatches) {
-  PipelineConfig on;
-  on.object_match.complete_by_motion = true;
-  const PipelineConfig off;
+  const PipelineConfig on;
+  ASSERT_TRUE(on.object_match.complete_by_motion);
+  PipelineConfig off;
+  off.object_match.complete_by_motion = false;
   for (const auto& [source_id, target_id] : {std::pair{280, 220}, {270, 210}, {930, 870}}) {
     SCOPED_TRACE(std::to_string(target_id) + " <- " + std::to_string(source_id));
     const Scan source = Frame(source_id), target = Frame(target_id);
