@@ -92,44 +92,38 @@ PairRecord ScorePair(const PairTask& task, const std::string& method, const Meth
   r.objects_target = static_cast<int>(output.target_object_centroids.size());
   r.views_source = output.views_source;
   r.views_target = output.views_target;
-  const bool surfaces =
+  // The two tests of an object pair under the ground truth: centroids within
+  // kObjectMatchToleranceM, and visible surfaces that coincide (SameSurface).
+  const auto centroids_agree = [&](int s, int t) {
+    const Eigen::Vector3d moved =
+        (T_gt * output.source_object_centroids[static_cast<std::size_t>(s)].homogeneous())
+            .head<3>();
+    return (moved - output.target_object_centroids[static_cast<std::size_t>(t)]).norm() <
+           kObjectMatchToleranceM;
+  };
+  const auto surfaces_coincide = [&](int s, int t) {
+    return SameSurface(output.source_object_surfaces[static_cast<std::size_t>(s)],
+                       output.target_object_surfaces[static_cast<std::size_t>(t)], T_gt);
+  };
+  const bool have_surfaces =
       output.source_object_surfaces.size() == output.source_object_centroids.size() &&
-      output.target_object_surfaces.size() == output.target_object_centroids.size() &&
-      !output.object_matches.empty();
-  if (surfaces) r.object_matches_same_surface = 0;
+      output.target_object_surfaces.size() == output.target_object_centroids.size();
+  if (have_surfaces && !output.object_matches.empty()) r.object_matches_same_surface = 0;
   for (const auto& [s, t] : output.object_matches) {
     if (s < 0 || t < 0 || s >= r.objects_source || t >= r.objects_target) continue;
     ++r.object_matches;
-    const Eigen::Vector3d moved =
-        (T_gt * output.source_object_centroids[s].homogeneous()).head<3>();
-    if ((moved - output.target_object_centroids[t]).norm() < kObjectMatchToleranceM) {
-      ++r.object_matches_correct;
-    }
-    if (surfaces &&
-        SameSurface(output.source_object_surfaces[s], output.target_object_surfaces[t], T_gt)) {
-      ++r.object_matches_same_surface;
-    }
+    if (centroids_agree(s, t)) ++r.object_matches_correct;
+    if (have_surfaces && surfaces_coincide(s, t)) ++r.object_matches_same_surface;
   }
-  const bool labels = output.source_object_labels.size() == output.source_object_centroids.size() &&
-                      output.target_object_labels.size() == output.target_object_centroids.size() &&
-                      r.objects_source + r.objects_target > 0;
-  if (labels) {
+  const bool have_labels =
+      output.source_object_labels.size() == output.source_object_centroids.size() &&
+      output.target_object_labels.size() == output.target_object_centroids.size() &&
+      r.objects_source + r.objects_target > 0;
+  if (have_labels) {
     const MatchableObjects objects{output.source_object_labels, output.target_object_labels};
-    r.object_pairs_matchable = CountMatchableObjectPairs(objects, [&](int s, int t) {
-      const Eigen::Vector3d moved =
-          (T_gt * output.source_object_centroids[static_cast<std::size_t>(s)].homogeneous())
-              .head<3>();
-      return (moved - output.target_object_centroids[static_cast<std::size_t>(t)]).norm() <
-             kObjectMatchToleranceM;
-    });
-    const bool have_surfaces =
-        output.source_object_surfaces.size() == output.source_object_centroids.size() &&
-        output.target_object_surfaces.size() == output.target_object_centroids.size();
+    r.object_pairs_matchable = CountMatchableObjectPairs(objects, centroids_agree);
     if (have_surfaces) {
-      r.object_pairs_matchable_same_surface = CountMatchableObjectPairs(objects, [&](int s, int t) {
-        return SameSurface(output.source_object_surfaces[static_cast<std::size_t>(s)],
-                           output.target_object_surfaces[static_cast<std::size_t>(t)], T_gt);
-      });
+      r.object_pairs_matchable_same_surface = CountMatchableObjectPairs(objects, surfaces_coincide);
     }
   }
   return r;
