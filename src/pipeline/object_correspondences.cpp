@@ -297,14 +297,12 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     std::vector<std::string> labels_s, labels_t;
     for (const SceneObject& o : objects_s) labels_s.push_back(o.label);
     for (const SceneObject& o : objects_t) labels_t.push_back(o.label);
-    MatchMask allowed = config_.method.label_mask_in_solve
-                            ? LabelCompatibilityMask(labels_s, labels_t)
-                            : MatchMask();
+    const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
+    MatchMask allowed = config_.method.label_mask_in_solve ? labels_agree : MatchMask();
     // Point support: the label-compatible pairs whose surfaces do not match point to point are
     // not candidates of Eq. 2 (object_match.min_point_support). Their matches are kept for §3.4.
     if (config_.object_match.min_point_support > 0) {
       timer.Mark("object_match");
-      const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
       if (allowed.size() == 0)
         allowed = MatchMask::Constant(labels_agree.rows(), labels_agree.cols(), true);
       for (Eigen::Index j = 0; j < allowed.rows(); ++j) {
@@ -366,7 +364,6 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
           members.push_back(
               {pair.source, pair.target, inside(pair.source, pair.target, true).motion});
         }
-        const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
         for (Eigen::Index j = 0; j < labels_agree.rows(); ++j) {
           for (Eigen::Index k = 0; k < labels_agree.cols(); ++k) {
             if (!labels_agree(j, k)) continue;
