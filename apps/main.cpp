@@ -1,5 +1,4 @@
 // zeroreg: zero-shot registration of RGB-D scans (ZeroReg, CVPR 2025).
-#include <open3d/utility/Logging.h>
 #include <iostream>
 #include <map>
 
@@ -9,9 +8,6 @@
 
 int main(int argc, char** argv) {
   using namespace zeroreg::cli;
-  // Open3D prints warnings such as "clamped color value" on stdout; they would bury progress lines
-  // and make stdout differ from run to run. Errors still show.
-  open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error);
   CLI::App app{"zeroreg: register two RGB-D scans with 2D foundation models, no 3D training"};
   app.set_version_flag("--version", "zeroreg " ZEROREG_VERSION);
   app.require_subcommand(1);

@@ -106,6 +106,12 @@ class CMakeBuild(build_ext):
         target = self.get_ext_fullpath(ext.name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
         shutil.copy2(built, target)
+        # What zeroreg takes from Open3D is in a module it loads when needed, looked for beside the
+        # extension first (src/open3d_module/open3d_module.hpp); the target builds it there.
+        module = os.path.join(os.path.dirname(built), "libzeroreg-open3d.so")
+        if not os.path.exists(module):
+            sys.exit(f"setup.py: {module} was not built (target zeroreg_open3d)")
+        shutil.copy2(module, os.path.join(os.path.dirname(target), "libzeroreg-open3d.so"))
         # The module links ONNX Runtime (a shared library) when the build has it: the wheel carries
         # it beside the extension, which finds it through its $ORIGIN RPATH (CMakeLists.txt).
         ort = cache_value("ZEROREG_ORT_LIBRARY")

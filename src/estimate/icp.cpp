@@ -1,7 +1,5 @@
 #include "estimate/icp.hpp"
 
-#include <open3d/geometry/PointCloud.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -14,6 +12,7 @@
 #include "estimate/lift.hpp"
 #include "estimate/normals.hpp"
 #include "estimate/point_kd_tree.hpp"
+#include "estimate/voxel_filter.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
@@ -31,17 +30,18 @@ struct IcpGeometry::Level {
   double voxel_m = 0;
   // Thinned points, with normals once MakeTargetReady ran. Mutable for that one write of the
   // normals (under target_once); the points never change, so sources may read them meanwhile.
-  mutable open3d::geometry::PointCloud cloud;
+  std::vector<Eigen::Vector3d> points;
+  mutable std::vector<Eigen::Vector3d> normals;
   std::vector<double> camera_depth;  // per thinned point; empty when unknown
 
   // Normals and k-d tree, made once however many threads ask (the thinned points stay as they
   // are: a source only reads them).
   const PointKdTree& MakeTargetReady() const {
     std::call_once(target_once, [this] {
-      if (cloud.points_.size() < 6) return;
+      if (points.size() < 6) return;
       // Open3D's rule (the 30 closest within 3 voxels), found in a grid instead of a k-d tree.
-      cloud.normals_ = EstimateNormals(cloud.points_, 3 * voxel_m, 30);
-      tree = std::make_unique<PointKdTree>(cloud.points_);
+      normals = EstimateNormals(points, 3 * voxel_m, 30);
+      tree = std::make_unique<PointKdTree>(points);
     });
     return *tree;
   }
@@ -62,12 +62,7 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
   if (!camera_depth.empty() && camera_depth.size() != points.size()) {
     throw std::invalid_argument("IcpGeometry: camera_depth must be empty or one per point");
   }
-  // The raw points are copied into an Open3D cloud once; each resolution thins that. The depth
-  // readings ride in the colour channel, which the voxel filter averages exactly like the points.
-  open3d::geometry::PointCloud raw;
-  raw.points_ = points;
-  raw.colors_.reserve(camera_depth.size());
-  for (double d : camera_depth) raw.colors_.emplace_back(d, 0.0, 0.0);
+  // Each resolution thins the raw points; the depth readings are averaged like the points.
   for (const IcpStage& stage : stages) {
     if (stage.iterations <= 0 || !(stage.voxel_m > 0)) continue;
     const bool built = std::any_of(levels_.begin(), levels_.end(),
@@ -75,9 +70,9 @@ IcpGeometry::IcpGeometry(const std::vector<Eigen::Vector3d>& points,
     if (built) continue;
     auto level = std::make_shared<Level>();
     level->voxel_m = stage.voxel_m;
-    level->cloud = *raw.VoxelDownSample(stage.voxel_m);
-    for (const Eigen::Vector3d& c : level->cloud.colors_) level->camera_depth.push_back(c.x());
-    level->cloud.colors_.clear();
+    VoxelMeans thinned = VoxelDownSample(points, camera_depth, stage.voxel_m);
+    level->points = std::move(thinned.points);
+    level->camera_depth = std::move(thinned.values);
     if (as_target) level->MakeTargetReady();
     levels_.push_back(std::move(level));
   }
@@ -102,7 +97,7 @@ IcpGeometry ScanIcpGeometry(const Scan& scan, const std::vector<IcpStage>& stage
 
 size_t IcpGeometry::NumPoints(double voxel_m) const {
   for (const auto& l : levels_) {
-    if (l->voxel_m == voxel_m) return l->cloud.points_.size();
+    if (l->voxel_m == voxel_m) return l->points.size();
   }
   return 0;
 }
@@ -112,8 +107,8 @@ size_t IcpGeometry::MemoryBytes() const {
   // Points and normals, plus the k-d tree's copy of the points and its nodes (about as much again;
   // counted whether or not they are made yet: what the scan holds once it was a target).
   for (const auto& l : levels_) {
-    bytes += l->cloud.points_.size() * 4 * sizeof(Eigen::Vector3d) +
-             l->camera_depth.size() * sizeof(double);
+    bytes +=
+        l->points.size() * 4 * sizeof(Eigen::Vector3d) + l->camera_depth.size() * sizeof(double);
   }
   return bytes;
 }
@@ -126,8 +121,9 @@ namespace {
 void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& target_level,
               const PointKdTree& tree, const IcpStage& stage, const IcpAnchors& anchors,
               int threads, Transform* T, IcpResult* result) {
-  const std::vector<Eigen::Vector3d>& source = source_level.cloud.points_;
-  const open3d::geometry::PointCloud& target = target_level.cloud;
+  const std::vector<Eigen::Vector3d>& source = source_level.points;
+  const std::vector<Eigen::Vector3d>& target_points = target_level.points;
+  const std::vector<Eigen::Vector3d>& target_normals = target_level.normals;
   const double gate_sq = stage.max_distance_m * stage.max_distance_m;
   // Depth-noise weights: a pair's point-to-plane residual has about the variance of the two depth
   // readings' axial noise (the normal is mostly along the view ray where the surface is seen
@@ -169,8 +165,8 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
     for (size_t i = 0; i < source.size(); ++i) {
       if (nearest[i] < 0) continue;
       const Eigen::Vector3d& p = moved[i];
-      const Eigen::Vector3d& q = target.points_[nearest[i]];
-      const Eigen::Vector3d& n = target.normals_[nearest[i]];
+      const Eigen::Vector3d& q = target_points[nearest[i]];
+      const Eigen::Vector3d& n = target_normals[nearest[i]];
       Eigen::Matrix<double, 6, 1> J;
       J << p.cross(n), n;
       const double r = n.dot(p - q);
@@ -269,7 +265,7 @@ IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& targe
     if (s == nullptr || t == nullptr) {
       throw std::logic_error("RefinePointToPlane: geometry not built for this ICP schedule");
     }
-    if (s->cloud.points_.size() < 6 || t->cloud.points_.size() < 6) break;
+    if (s->points.size() < 6 || t->points.size() < 6) break;
     const PointKdTree& tree = t->MakeTargetReady();
     RunStage(*s, *t, tree, stage, anchors, threads, &T, &result);
   }

@@ -1,13 +1,5 @@
 #include "eval/methods.hpp"
 
-#include <open3d/geometry/KDTreeFlann.h>
-#include <open3d/geometry/KDTreeSearchParam.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/pipelines/registration/CorrespondenceChecker.h>
-#include <open3d/pipelines/registration/Feature.h>
-#include <open3d/pipelines/registration/Registration.h>
-#include <open3d/utility/Random.h>
-
 #include <exception>
 #include <future>
 #include <mutex>
@@ -20,14 +12,13 @@
 #include "estimate/rigid_ransac.hpp"
 #include "eval/prepared_cache.hpp"
 #include "features/fpfh.hpp"
+#include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 #include "zeroreg/register.hpp"
 
 namespace zeroreg {
 namespace {
-
-namespace reg = open3d::pipelines::registration;
 
 // One Pipeline (thread-safe; its models are loaded once) and one cache of prepared scans, shared
 // by the instances of every runner thread.
@@ -124,60 +115,48 @@ class ZeroregMethod : public PairMethod {
   bool require_image_path_;
 };
 
-// Open3D's RNG is one global engine: seeding it and running RANSAC must not interleave with
-// another runner thread's RANSAC, or neither result would depend on its seed alone.
-std::mutex& Open3dRandomMutex() {
-  static std::mutex mutex;
-  return mutex;
-}
-
 class FpfhMethod : public PairMethod {
  public:
   explicit FpfhMethod(const FpfhConfig& config) : c_(config) {}
 
   MethodOutput Run(const Scan& source, const Scan& target) override {
-    const auto src = Prepare(source);
-    const auto tgt = Prepare(target);
+    const FpfhCloud src = Prepare(source);
+    const FpfhCloud tgt = Prepare(target);
     MethodOutput out;
     out.path = "fpfh";
-    if (src.cloud->points_.size() < 3 || tgt.cloud->points_.size() < 3) {
+    if (src.points.size() < 3 || tgt.points.size() < 3) {
       out.reason = "fewer than 3 points after voxel down-sampling";
       return out;
     }
+    // Open3D's feature-matching RANSAC, in the Open3D module (seeded, one RANSAC at a time there).
+    open3d_module::FeatureRansacRequest request;
+    request.mutual_filter = c_.mutual_filter;
+    request.max_distance_m = c_.distance_voxels * c_.voxel_m;
+    request.edge_length_similarity = c_.edge_length_similarity;
+    request.max_iterations = c_.max_iterations;
+    request.confidence = c_.confidence;
+    request.seed = static_cast<int>(c_.seed & 0x7fffffff);
+    open3d_module::FpfhFeatures src_features{src.points, src.features};
+    open3d_module::FpfhFeatures tgt_features{tgt.points, tgt.features};
+    open3d_module::FeatureRansacResult result;
+    open3d_module::Module().feature_ransac(src_features, tgt_features, request, &result);
     // The putative correspondences RANSAC samples from (mutual filter off): each source point
     // with its nearest target point in FPFH space. Kept for the inlier ratio under the GT pose.
-    open3d::geometry::KDTreeFlann feature_tree(*tgt.feature);
-    std::vector<int> index(1);
-    std::vector<double> distance2(1);
-    for (size_t s = 0; s < src.cloud->points_.size(); ++s) {
-      const Eigen::VectorXd query = src.feature->data_.col(static_cast<Eigen::Index>(s));
-      if (feature_tree.SearchKNN(query, 1, index, distance2) < 1) continue;
+    for (size_t s = 0; s < src.points.size(); ++s) {
+      const int t = result.nearest_target[s];
+      if (t < 0) continue;
       Correspondence c;
-      c.source = src.cloud->points_[s];
-      c.target = tgt.cloud->points_[index[0]];
+      c.source = src.points[s];
+      c.target = tgt.points[static_cast<size_t>(t)];
       out.correspondences.push_back(c);
     }
-
-    const double distance = c_.distance_voxels * c_.voxel_m;
-    reg::CorrespondenceCheckerBasedOnEdgeLength edge_checker(c_.edge_length_similarity);
-    reg::CorrespondenceCheckerBasedOnDistance distance_checker(distance);
-    reg::RegistrationResult result;
-    {
-      std::lock_guard<std::mutex> lock(Open3dRandomMutex());
-      open3d::utility::random::Seed(static_cast<int>(c_.seed & 0x7fffffff));
-      result = reg::RegistrationRANSACBasedOnFeatureMatching(
-          *src.cloud, *tgt.cloud, *src.feature, *tgt.feature, c_.mutual_filter, distance,
-          reg::TransformationEstimationPointToPoint(false), /*ransac_n=*/3,
-          {edge_checker, distance_checker},
-          reg::RANSACConvergenceCriteria(c_.max_iterations, c_.confidence));
-    }
-    out.T_target_source = result.transformation_;
-    out.num_inliers = static_cast<int>(result.correspondence_set_.size());
-    out.valid = result.fitness_ > 0 && out.num_inliers >= 3;
+    out.T_target_source = result.T_target_source;
+    out.num_inliers = result.num_inliers;
+    out.valid = result.fitness > 0 && out.num_inliers >= 3;
     std::ostringstream why;
     if (out.valid) {
-      why << "fitness " << result.fitness_ << ", " << out.num_inliers << " of "
-          << src.cloud->points_.size() << " source points within " << distance << " m";
+      why << "fitness " << result.fitness << ", " << out.num_inliers << " of " << src.points.size()
+          << " source points within " << request.max_distance_m << " m";
     } else {
       why << "RANSAC found no hypothesis passing the checkers";
     }
@@ -186,20 +165,14 @@ class FpfhMethod : public PairMethod {
   }
 
  private:
-  struct Prepared {
-    std::shared_ptr<open3d::geometry::PointCloud> cloud;
-    std::shared_ptr<reg::Feature> feature;
-  };
-
-  Prepared Prepare(const Scan& scan) const {
+  FpfhCloud Prepare(const Scan& scan) const {
     FpfhParams params;
     params.voxel_m = c_.voxel_m;
     params.normal_radius_voxels = c_.normal_radius_voxels;
     params.normal_max_nn = c_.normal_max_nn;
     params.feature_radius_voxels = c_.feature_radius_voxels;
     params.feature_max_nn = c_.feature_max_nn;
-    const FpfhCloud fpfh = ComputeFpfh(ScanGeometry(scan, c_.min_depth_m, c_.max_depth_m), params);
-    return {fpfh.cloud, fpfh.feature};
+    return ComputeFpfh(ScanGeometry(scan, c_.min_depth_m, c_.max_depth_m), params);
   }
 
   FpfhConfig c_;

@@ -1,28 +1,28 @@
 #include "features/fpfh.hpp"
 
-#include <open3d/geometry/KDTreeSearchParam.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/pipelines/registration/Feature.h>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
+#include "open3d_module/open3d_module.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
 
 FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhParams& p) {
-  open3d::geometry::PointCloud full;
-  full.points_ = points;
+  open3d_module::FpfhRequest request;
+  request.voxel_m = p.voxel_m;
+  request.normal_radius_m = p.normal_radius_voxels * p.voxel_m;
+  request.normal_max_nn = p.normal_max_nn;
+  request.feature_radius_m = p.feature_radius_voxels * p.voxel_m;
+  request.feature_max_nn = p.feature_max_nn;
+  open3d_module::FpfhFeatures features;
+  open3d_module::Module().compute_fpfh(points, request, &features);
   FpfhCloud out;
-  out.cloud = full.VoxelDownSample(p.voxel_m);
-  out.cloud->EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(
-      p.normal_radius_voxels * p.voxel_m, p.normal_max_nn));
-  out.feature = open3d::pipelines::registration::ComputeFPFHFeature(
-      *out.cloud, open3d::geometry::KDTreeSearchParamHybrid(p.feature_radius_voxels * p.voxel_m,
-                                                            p.feature_max_nn));
+  out.points = std::move(features.points);
+  out.features = std::move(features.features);
   return out;
 }
 
@@ -77,8 +77,8 @@ double SquaredDistance(const Eigen::MatrixXd& S, Eigen::Index s, const Eigen::Ma
 std::vector<FeaturePair> MutualFeatureMatches(const FpfhCloud& source, const FpfhCloud& target,
                                               int threads) {
   std::vector<FeaturePair> out;
-  const Eigen::MatrixXd& S = source.feature->data_;  // dims x ns
-  const Eigen::MatrixXd& T = target.feature->data_;  // dims x nt
+  const Eigen::MatrixXd& S = source.features;  // dims x ns
+  const Eigen::MatrixXd& T = target.features;  // dims x nt
   const Eigen::Index ns = S.cols(), nt = T.cols();
   if (ns < 2 || nt < 2 || S.rows() != T.rows()) return out;
   const Eigen::VectorXd s_norm = S.colwise().squaredNorm().transpose();

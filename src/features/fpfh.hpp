@@ -1,19 +1,12 @@
-// FPFH geometric descriptors of a point cloud (Rusu et al., ICRA 2009), through Open3D: voxel
-// down-sampling, normals, then one 33-bin histogram per kept point. Shared by the FPFH + RANSAC
+// FPFH geometric descriptors of a point cloud (Rusu et al., ICRA 2009), through Open3D (in the
+// module loaded on first use, src/open3d_module/): voxel down-sampling, normals, then one 33-bin
+// histogram per kept point. Shared by the FPFH + RANSAC
 // baseline (src/eval/methods.cpp) and the pipeline's geometry hypothesis (issue 12,
 // src/pipeline/hypotheses.cpp).
 #pragma once
 
 #include <Eigen/Core>
-#include <memory>
 #include <vector>
-
-namespace open3d::geometry {
-class PointCloud;
-}
-namespace open3d::pipelines::registration {
-class Feature;
-}
 
 namespace zeroreg {
 
@@ -26,10 +19,11 @@ struct FpfhParams {
 };
 
 struct FpfhCloud {
-  std::shared_ptr<open3d::geometry::PointCloud> cloud;                // the down-sampled points
-  std::shared_ptr<open3d::pipelines::registration::Feature> feature;  // 33 x N, column per point
+  std::vector<Eigen::Vector3d> points;  // the down-sampled points
+  Eigen::MatrixXd features;             // 33 x points.size(), a column per point
 };
 
+// Throws InputError when the Open3D module cannot be loaded (open3d_module::Module).
 FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhParams& params);
 
 // Mutual nearest neighbours in FPFH space (Euclidean): (source index, target index, score) with

@@ -1,12 +1,8 @@
 #include "fuse/fuse.hpp"
 
-#include <open3d/geometry/Image.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/geometry/RGBDImage.h>
-#include <open3d/io/PointCloudIO.h>
-#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -16,33 +12,50 @@
 
 #include "io/image_codec.hpp"
 #include "io/text_parsing.hpp"
+#include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
 namespace fs = std::filesystem;
 namespace {
 
-open3d::geometry::Image ToOpen3dColor(const cv::Mat& bgr) {
-  cv::Mat rgb;
-  cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-  open3d::geometry::Image image;
-  image.Prepare(rgb.cols, rgb.rows, 3, 1);
-  for (int y = 0; y < rgb.rows; ++y) {
-    std::memcpy(image.data_.data() + static_cast<size_t>(y) * rgb.cols * 3, rgb.ptr(y),
-                static_cast<size_t>(rgb.cols) * 3);
-  }
-  return image;
-}
+// An Open3D TSDF volume (in the Open3D module), freed however the fusion ends.
+class TsdfVolume {
+ public:
+  TsdfVolume(double voxel_length_m, double sdf_trunc_m)
+      : api_(open3d_module::Module()), volume_(api_.tsdf_create(voxel_length_m, sdf_trunc_m)) {}
+  ~TsdfVolume() { api_.tsdf_destroy(volume_); }
+  TsdfVolume(const TsdfVolume&) = delete;
+  TsdfVolume& operator=(const TsdfVolume&) = delete;
 
-open3d::geometry::Image ToOpen3dDepth(const cv::Mat& depth_m) {
-  open3d::geometry::Image image;
-  image.Prepare(depth_m.cols, depth_m.rows, 1, 4);
-  for (int y = 0; y < depth_m.rows; ++y) {
-    std::memcpy(image.data_.data() + static_cast<size_t>(y) * depth_m.cols * 4, depth_m.ptr(y),
-                static_cast<size_t>(depth_m.cols) * 4);
+  // `T_fragment_camera` places the camera in the volume's frame.
+  void Integrate(const View& view, const Transform& T_fragment_camera, double max_depth_m) {
+    cv::Mat rgb;
+    cv::cvtColor(view.color, rgb, cv::COLOR_BGR2RGB);
+    open3d_module::RgbdFrame frame;
+    frame.width = rgb.cols;
+    frame.height = rgb.rows;
+    frame.rgb = rgb.ptr<std::uint8_t>(0);
+    frame.rgb_step = rgb.step[0];
+    frame.depth = view.depth.ptr<float>(0);
+    frame.depth_step = view.depth.step[0];
+    frame.fx = view.intrinsics.fx;
+    frame.fy = view.intrinsics.fy;
+    frame.cx = view.intrinsics.cx;
+    frame.cy = view.intrinsics.cy;
+    frame.T_camera_volume = T_fragment_camera.inverse().matrix();  // extrinsic: fragment->camera
+    api_.tsdf_integrate(volume_, frame, max_depth_m);
   }
-  return image;
-}
+
+  void Extract(double output_voxel_m, std::vector<Eigen::Vector3d>* points,
+               std::vector<Eigen::Vector3d>* colors, std::vector<Eigen::Vector3d>* normals) {
+    api_.tsdf_extract(volume_, output_voxel_m, points, colors, normals);
+  }
+
+ private:
+  const open3d_module::Api& api_;
+  void* volume_;
+};
 
 nlohmann::json FuseKey(const Dataset& dataset, const std::vector<int>& frame_ids,
                        const FuseConfig& c) {
@@ -110,9 +123,7 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
   }
   fs::create_directories(dir);
 
-  open3d::pipelines::integration::ScalableTSDFVolume volume(
-      config.voxel_length_m, config.sdf_trunc_m,
-      open3d::pipelines::integration::TSDFVolumeColorType::RGB8);
+  TsdfVolume volume(config.voxel_length_m, config.sdf_trunc_m);
   const std::vector<int> view_ids = ChooseViewFrames(frame_ids, config.num_views);
   Transform T_world_fragment = Transform::Identity();
   ScanDescriptor descriptor;
@@ -124,13 +135,7 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
     }
     if (k == 0) T_world_fragment = *view.T_world_camera_gt;
     const Transform T_fragment_camera = T_world_fragment.inverse() * *view.T_world_camera_gt;
-    const auto rgbd = open3d::geometry::RGBDImage::CreateFromColorAndDepth(
-        ToOpen3dColor(view.color), ToOpen3dDepth(view.depth), /*depth_scale=*/1.0,
-        config.max_depth_m, /*convert_rgb_to_intensity=*/false);
-    const open3d::camera::PinholeCameraIntrinsic intrinsic(view.color.cols, view.color.rows,
-                                                           view.intrinsics.fx, view.intrinsics.fy,
-                                                           view.intrinsics.cx, view.intrinsics.cy);
-    volume.Integrate(*rgbd, intrinsic, T_fragment_camera.inverse());  // extrinsic: fragment->camera
+    volume.Integrate(view, T_fragment_camera, config.max_depth_m);
 
     if (std::find(view_ids.begin(), view_ids.end(), frame_ids[k]) != view_ids.end()) {
       const std::string stem = "view-" + std::to_string(frame_ids[k]);
@@ -153,13 +158,13 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
     }
     if (progress) progress(static_cast<int>(k) + 1, static_cast<int>(frame_ids.size()));
   }
-  auto cloud = volume.ExtractPointCloud();
-  if (config.output_voxel_m > 0) cloud = cloud->VoxelDownSample(config.output_voxel_m);
-  if (cloud->points_.empty()) {
+  std::vector<Eigen::Vector3d> points, colors, normals;
+  volume.Extract(config.output_voxel_m, &points, &colors, &normals);
+  if (points.empty()) {
     throw MakeInputError(dataset.root(), "TSDF fusion produced an empty cloud (no valid depth?)");
   }
   const fs::path cloud_path = dir / "cloud.ply";
-  if (!open3d::io::WritePointCloud(cloud_path.string(), *cloud)) {
+  if (!open3d_module::Module().write_point_cloud(cloud_path.string(), points, colors, normals)) {
     throw MakeInputError(cloud_path.string(), "cannot write the fused point cloud");
   }
   descriptor.cloud = "cloud.ply";

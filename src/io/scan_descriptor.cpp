@@ -1,14 +1,14 @@
 // Generic scan descriptor (scan.json, docs/FORMATS.md): reading, writing and loading.
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/io/PointCloudIO.h>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <utility>
 
 #include "io/image_checks.hpp"
 #include "io/text_parsing.hpp"
+#include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 
@@ -220,19 +220,17 @@ Scan LoadScanFromDescriptor(const std::string& path) {
   if (!d.cloud.empty()) {
     const std::string cloud_path = detail::ResolvePath(dir, d.cloud);
     detail::RequireFile(cloud_path, "point cloud");
-    open3d::geometry::PointCloud cloud;
-    open3d::io::ReadPointCloudOption option;
-    option.print_progress = false;
-    if (!open3d::io::ReadPointCloud(cloud_path, cloud, option) || cloud.points_.empty()) {
+    std::vector<Eigen::Vector3d> points, colors;
+    if (!open3d_module::Module().read_point_cloud(cloud_path, &points, &colors) || points.empty()) {
       throw MakeInputError(cloud_path,
                            "point cloud cannot be read or has no points; expected a .ply (or other "
                            "Open3D-readable) point cloud");
     }
-    for (const auto& p : cloud.points_) {
+    for (const auto& p : points) {
       if (!p.allFinite()) throw MakeInputError(cloud_path, "point cloud holds a non-finite point");
     }
-    scan.points = cloud.points_;
-    if (cloud.HasColors()) scan.colors = cloud.colors_;
+    scan.points = std::move(points);
+    if (!colors.empty() && colors.size() == scan.points.size()) scan.colors = std::move(colors);
   }
   return scan;
 }

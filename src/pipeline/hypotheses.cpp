@@ -1,7 +1,5 @@
 #include "pipeline/hypotheses.hpp"
 
-#include <open3d/geometry/PointCloud.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -171,8 +169,8 @@ std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Sc
   std::vector<Correspondence> out;
   for (const FeaturePair& m : MutualFeatureMatches(s, t, config.threads)) {
     Correspondence c;
-    c.source = s.cloud->points_[static_cast<size_t>(m.source)];
-    c.target = t.cloud->points_[static_cast<size_t>(m.target)];
+    c.source = s.points[static_cast<size_t>(m.source)];
+    c.target = t.points[static_cast<size_t>(m.target)];
     c.score = m.score;
     c.view = -1;  // not from an image
     c.target_view = -1;

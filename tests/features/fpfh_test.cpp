@@ -6,8 +6,6 @@
 #include "features/fpfh.hpp"
 
 #include <gtest/gtest.h>
-#include <open3d/geometry/PointCloud.h>
-#include <open3d/pipelines/registration/Feature.h>
 
 #include <Eigen/Geometry>
 #include <cmath>
@@ -21,11 +19,9 @@ FpfhCloud RandomFeatures(int dims, int n, unsigned seed) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> bin(0.0, 100.0);
   FpfhCloud c;
-  c.cloud = std::make_shared<open3d::geometry::PointCloud>();
-  c.feature = std::make_shared<open3d::pipelines::registration::Feature>();
-  c.feature->Resize(dims, n);
+  c.features.resize(dims, n);
   for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < dims; ++i) c.feature->data_(i, j) = bin(rng);
+    for (int i = 0; i < dims; ++i) c.features(i, j) = bin(rng);
   }
   return c;
 }
@@ -41,8 +37,8 @@ double SquaredDistance(const Eigen::MatrixXd& S, Eigen::Index s, const Eigen::Ma
 // The definition, one distance at a time: the closest and second-closest target of each source,
 // the closest source of each target, strict comparisons in index order (ties to the lower index).
 std::vector<FeaturePair> Reference(const FpfhCloud& source, const FpfhCloud& target) {
-  const Eigen::MatrixXd& S = source.feature->data_;
-  const Eigen::MatrixXd& T = target.feature->data_;
+  const Eigen::MatrixXd& S = source.features;
+  const Eigen::MatrixXd& T = target.features;
   std::vector<FeaturePair> out;
   for (Eigen::Index s = 0; s < S.cols(); ++s) {
     double d1 = std::numeric_limits<double>::infinity(), d2 = d1;
@@ -111,9 +107,9 @@ TEST(MutualFeatureMatches, TiesGoToTheLowerIndex) {
   // Three identical target features (as FPFH gives isolated points: all-zero histograms) in
   // different blocks' reach: the source matches the first, with a score of 0 (ambiguous).
   FpfhCloud s = RandomFeatures(33, 300, 5), t = RandomFeatures(33, 40, 6);
-  s.feature->data_.col(0).setZero();
-  s.feature->data_.col(299).setZero();
-  for (int j : {7, 8, 30}) t.feature->data_.col(j).setZero();
+  s.features.col(0).setZero();
+  s.features.col(299).setZero();
+  for (int j : {7, 8, 30}) t.features.col(j).setZero();
   const std::vector<FeaturePair> m = MutualFeatureMatches(s, t, 2);
   bool found = false;
   for (const FeaturePair& p : m) {
@@ -158,8 +154,8 @@ TEST(MutualFeatureMatches, RealFpfhOfAMovedCopyAgreesWithTheDefinitionAndFindsTh
   // Chance: a 10 cm disc is ~0.5 % of the 6.75 m^2 of surface; flat points are ambiguous.
   int close = 0;
   for (const FeaturePair& p : m) {
-    const Eigen::Vector3d from = move * a.cloud->points_[static_cast<size_t>(p.source)];
-    if ((from - b.cloud->points_[static_cast<size_t>(p.target)]).norm() < 0.1) ++close;
+    const Eigen::Vector3d from = move * a.points[static_cast<size_t>(p.source)];
+    if ((from - b.points[static_cast<size_t>(p.target)]).norm() < 0.1) ++close;
   }
   EXPECT_GT(close, static_cast<int>(m.size()) / 10) << close << " of " << m.size();
 }

@@ -1,0 +1,109 @@
+// Everything zeroreg takes from Open3D, behind one table of functions in a module of its own,
+// libzeroreg-open3d.so, loaded the first time one of them is called (docs/SPEED.md, "Start-up").
+//
+// Why: Open3D 0.16 brings about 100 shared libraries (VTK, filament, embree, ...) that the dynamic
+// loader maps and relocates, eagerly (Debian links them with BIND_NOW), before main: about 75 ms
+// of every process, a fifth of a frame-pair registration's wall time. A frame pair usually needs
+// none of it (ICP's clouds, normals and k-d trees are zeroreg's own), so the processes that need
+// none of it no longer pay for it. The module is needed by the geometry hypothesis (FPFH), point
+// cloud files (.ply of fused fragments), TSDF fusion and the FPFH + RANSAC baseline.
+//
+// The interface is plain data only (std containers, Eigen, raw image rows), so the module needs
+// no symbol of zeroreg's and the same file serves the CLI, the Python module and the tests.
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace zeroreg::open3d_module {
+
+// Bumped whenever a signature or struct below changes: a module built from other sources is
+// refused with a message instead of being called with the wrong layout.
+constexpr int kAbiVersion = 1;
+
+// FPFH (Rusu et al., ICRA 2009) of a cloud: voxel down-sampling, normals (hybrid search), then
+// one 33-bin histogram per kept point.
+struct FpfhRequest {
+  double voxel_m = 0.05;
+  double normal_radius_m = 0.1;
+  int normal_max_nn = 30;
+  double feature_radius_m = 0.25;
+  int feature_max_nn = 100;
+};
+struct FpfhFeatures {
+  std::vector<Eigen::Vector3d> points;  // the down-sampled points
+  Eigen::MatrixXd features;             // 33 x points.size(), a column per point
+};
+
+// Open3D's RegistrationRANSACBasedOnFeatureMatching (the FPFH + RANSAC baseline of `zeroreg eval
+// --method fpfh`) with point-to-point estimation, 3-point samples, the edge-length and distance
+// checkers, seeded with `seed`.
+struct FeatureRansacRequest {
+  bool mutual_filter = false;
+  double max_distance_m = 0.075;
+  double edge_length_similarity = 0.9;
+  int max_iterations = 100000;
+  double confidence = 0.999;
+  int seed = 0;
+};
+struct FeatureRansacResult {
+  Eigen::Matrix4d T_target_source = Eigen::Matrix4d::Identity();
+  double fitness = 0.0;
+  int num_inliers = 0;
+  // Each source point with its nearest target point in feature space (-1: none): the putative
+  // correspondences RANSAC samples from when the mutual filter is off.
+  std::vector<int> nearest_target;
+};
+
+// One RGB-D frame for TSDF integration: 8-bit RGB rows and float depth in metres, same size.
+struct RgbdFrame {
+  int width = 0, height = 0;
+  const std::uint8_t* rgb = nullptr;  // height rows of width * 3 bytes, `rgb_step` bytes apart
+  std::size_t rgb_step = 0;
+  const float* depth = nullptr;  // height rows of width floats, `depth_step` bytes apart
+  std::size_t depth_step = 0;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  Eigen::Matrix4d T_camera_volume = Eigen::Matrix4d::Identity();  // volume frame -> camera
+};
+
+struct Api {
+  int abi_version = 0;
+  void (*compute_fpfh)(const std::vector<Eigen::Vector3d>& points, const FpfhRequest& request,
+                       FpfhFeatures* out) = nullptr;
+  void (*feature_ransac)(const FpfhFeatures& source, const FpfhFeatures& target,
+                         const FeatureRansacRequest& request, FeatureRansacResult* out) = nullptr;
+  // Point cloud files in any format Open3D reads or writes (by extension); false on failure.
+  // Colours (RGB in [0, 1]) and normals may be empty, or one per point.
+  bool (*read_point_cloud)(const std::string& path, std::vector<Eigen::Vector3d>* points,
+                           std::vector<Eigen::Vector3d>* colors) = nullptr;
+  bool (*write_point_cloud)(const std::string& path, const std::vector<Eigen::Vector3d>& points,
+                            const std::vector<Eigen::Vector3d>& colors,
+                            const std::vector<Eigen::Vector3d>& normals) = nullptr;
+  // A scalable TSDF volume with RGB colour: made, fed frames, turned into a coloured cloud
+  // (down-sampled to output_voxel_m when > 0), freed.
+  void* (*tsdf_create)(double voxel_length_m, double sdf_trunc_m) = nullptr;
+  void (*tsdf_integrate)(void* volume, const RgbdFrame& frame, double max_depth_m) = nullptr;
+  void (*tsdf_extract)(void* volume, double output_voxel_m, std::vector<Eigen::Vector3d>* points,
+                       std::vector<Eigen::Vector3d>* colors,
+                       std::vector<Eigen::Vector3d>* normals) = nullptr;
+  void (*tsdf_destroy)(void* volume) = nullptr;
+};
+
+// The module's one exported symbol.
+constexpr const char* kEntryPoint = "zeroreg_open3d_module_api";
+constexpr const char* kFileName = "libzeroreg-open3d.so";
+
+// The loaded module, loaded on the first call (thread-safe). Looked for: the file
+// $ZEROREG_OPEN3D_MODULE when set (only there); otherwise, in order, libzeroreg-open3d.so beside
+// the program or shared object that holds this code (the build folder, the Python package);
+// ../lib/zeroreg/ from there (an installed bin/); the configured install prefix's lib/zeroreg/; the
+// build folder zeroreg was compiled in. Throws InputError naming every place looked in and what
+// each said when none loads.
+const Api& Module();
+
+// Where Module() looks, in order (for messages and tests).
+std::vector<std::string> ModuleSearchPaths();
+
+}  // namespace zeroreg::open3d_module
