@@ -7,14 +7,20 @@
 #include <gtest/gtest.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
+#include <open3d/geometry/RGBDImage.h>
+#include <open3d/io/PointCloudIO.h>
+#include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <open3d/pipelines/registration/Feature.h>
 #include <stdlib.h>
 
+#include <cstring>
 #include <filesystem>
+#include <opencv2/imgproc.hpp>
 
 #include "assets/assets_test_util.hpp"
 #include "estimate/lift.hpp"
 #include "features/fpfh.hpp"
+#include "fuse/fuse.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/io.hpp"
 
@@ -62,6 +68,49 @@ TEST(Open3dModule, PointCloudFilesRoundTripThroughTheModule) {
   EXPECT_EQ(read_points, points);
   ASSERT_EQ(read_colors.size(), colors.size());
   EXPECT_FALSE(api.read_point_cloud(dir / "missing.ply", &read_points, &read_colors));
+}
+
+// The fusion through the module against Open3D's TSDF volume fed directly: the same cloud file.
+TEST(Open3dModule, FusionThroughTheModuleIsOpen3dsOwn) {
+  const auto dataset = OpenDataset(RedkitchenDir());
+  const std::vector<int> frames = {0, 5, 10, 15};
+  FuseConfig config;
+  testing::TempDir dir;
+  ASSERT_TRUE(FuseFragment(*dataset, frames, config, dir / "fragment"));
+
+  open3d::pipelines::integration::ScalableTSDFVolume volume(
+      config.voxel_length_m, config.sdf_trunc_m,
+      open3d::pipelines::integration::TSDFVolumeColorType::RGB8);
+  Transform T_world_first = Transform::Identity();
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const View view = dataset->LoadFrame(frames[k]);
+    if (k == 0) T_world_first = *view.T_world_camera_gt;
+    cv::Mat rgb;
+    cv::cvtColor(view.color, rgb, cv::COLOR_BGR2RGB);
+    open3d::geometry::Image color, depth;
+    color.Prepare(rgb.cols, rgb.rows, 3, 1);
+    depth.Prepare(rgb.cols, rgb.rows, 1, 4);
+    for (int y = 0; y < rgb.rows; ++y) {
+      std::memcpy(color.data_.data() + static_cast<size_t>(y) * rgb.cols * 3, rgb.ptr(y),
+                  static_cast<size_t>(rgb.cols) * 3);
+      std::memcpy(depth.data_.data() + static_cast<size_t>(y) * rgb.cols * 4, view.depth.ptr(y),
+                  static_cast<size_t>(rgb.cols) * 4);
+    }
+    const auto rgbd = open3d::geometry::RGBDImage::CreateFromColorAndDepth(
+        color, depth, 1.0, config.max_depth_m, false);
+    const open3d::camera::PinholeCameraIntrinsic intrinsic(rgb.cols, rgb.rows, view.intrinsics.fx,
+                                                           view.intrinsics.fy, view.intrinsics.cx,
+                                                           view.intrinsics.cy);
+    const Transform T_first_camera = T_world_first.inverse() * *view.T_world_camera_gt;
+    volume.Integrate(*rgbd, intrinsic, T_first_camera.inverse().matrix());
+  }
+  const auto reference = volume.ExtractPointCloud()->VoxelDownSample(config.output_voxel_m);
+  ASSERT_TRUE(open3d::io::WritePointCloud(dir / "reference.ply", *reference));
+  const auto ours = testing::RunCommand("cmp '" + (dir / "fragment/cloud.ply") + "' '" +
+                                        (dir / "reference.ply") + "'");
+  EXPECT_EQ(ours.exit_code, 0) << ours.output;
+  EXPECT_GT(reference->points_.size(), 10000u);
+  EXPECT_TRUE(reference->HasNormals());
 }
 
 TEST(Open3dModule, SearchPathsHonourTheUsersFileAlone) {
