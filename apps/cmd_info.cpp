@@ -7,8 +7,10 @@
 #include "estimate/depth_noise.hpp"
 #include "features/xfeat_extractor.hpp"
 #include "io/text_parsing.hpp"
+#include "open3d_module/open3d_module.hpp"
 #include "segment/segmenter.hpp"
 #include "zeroreg/assets.hpp"
+#include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
 
@@ -36,6 +38,13 @@ Runner AddInfoCommand(CLI::App& app) {
     const char* tunables = std::getenv("GLIBC_TUNABLES");
     std::printf("malloc tuning: %s (GLIBC_TUNABLES=%s)\n", tuning ? tuning : "not applied",
                 tunables ? tunables : "");
+    // Loaded here only to say where it is; a registration loads it only when it needs it.
+    try {
+      std::printf("open3d module: %s (loads; needed for FPFH, point cloud files, fusion)\n",
+                  open3d_module::LoadedModulePath().c_str());
+    } catch (const InputError& e) {
+      std::printf("open3d module: NOT LOADABLE: %s\n", e.what());
+    }
     for (const std::string& file : {XFeatExtractor::ModelFile(config.features, config.inference),
                                     std::string("yolox_nano_coco/yolox_nano.onnx")}) {
       std::printf("  %s: %s (sha256 ok)\n", file.c_str(), RequireAsset(assets, file).c_str());

@@ -37,6 +37,12 @@ fs::path ThisObjectPath() {
   return ec ? fs::path() : exe;
 }
 
+// The file Load() loaded the module from.
+std::string& LoadedFrom() {
+  static std::string path;
+  return path;
+}
+
 const Api& Load() {
   std::string tried;
   for (const std::string& path : ModuleSearchPaths()) {
@@ -62,6 +68,7 @@ const Api& Load() {
                std::to_string(kAbiVersion) + ")";
       continue;
     }
+    LoadedFrom() = path;
     return *api;
   }
   throw MakeInputError(
@@ -104,6 +111,11 @@ const Api& Module() {
   std::lock_guard<std::mutex> lock(mutex);
   if (loaded == nullptr) loaded = &Load();
   return *loaded;
+}
+
+std::string LoadedModulePath() {
+  Module();
+  return LoadedFrom();
 }
 
 }  // namespace zeroreg::open3d_module

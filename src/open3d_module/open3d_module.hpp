@@ -103,6 +103,9 @@ constexpr const char* kFileName = "libzeroreg-open3d.so";
 // each said when none loads.
 const Api& Module();
 
+// The file Module() loaded (loading it first; throws as Module() does). For `zeroreg info`.
+std::string LoadedModulePath();
+
 // Where Module() looks, in order (for messages and tests).
 std::vector<std::string> ModuleSearchPaths();
 

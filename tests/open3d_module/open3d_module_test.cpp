@@ -125,6 +125,18 @@ TEST(Open3dModule, SearchPathsHonourTheUsersFileAlone) {
   EXPECT_NE(paths.front().find(open3d_module::kFileName), std::string::npos);
 }
 
+TEST(Open3dModule, InfoSaysWhereTheModuleIsOrWhyItDoesNotLoad) {
+  const auto found = RunCli("info");
+  ASSERT_EQ(found.exit_code, 0) << found.output;
+  EXPECT_NE(found.output.find("open3d module: /"), std::string::npos) << found.output;
+  EXPECT_NE(found.output.find("libzeroreg-open3d.so (loads"), std::string::npos) << found.output;
+  const auto missing = RunCommand("ZEROREG_OPEN3D_MODULE=/nonexistent/libzeroreg-open3d.so '" +
+                                  testing::CliPath() + "' info");
+  ASSERT_EQ(missing.exit_code, 0) << missing.output;
+  EXPECT_NE(missing.output.find("open3d module: NOT LOADABLE"), std::string::npos)
+      << missing.output;
+}
+
 TEST(Open3dModule, TheCliDoesNotLinkOpen3d) {
   // ldd lists every shared library the loader maps at start-up, transitively.
   const auto ldd = RunCommand("ldd '" + CoreBinary() + "'");
