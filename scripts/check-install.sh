@@ -56,6 +56,19 @@ fi
 for list in build/install/share/zeroreg/assets/assets.sha256 build/venv/share/zeroreg/assets/assets.sha256; do
   [[ -f "$list" ]] || { echo "check-install: $list missing: the models were not installed" >&2; exit 1; }
 done
+# The Open3D module (docs/INSTALL.md): the installed CLI and the venv's package load their own
+# copies, not the build tree's.
+cli_module="$(build/install/bin/zeroreg info | sed -n 's/^open3d module: \([^ ]*\) (loads.*/\1/p')"
+if [[ "$cli_module" != "$repo_root/build/install/lib/zeroreg/libzeroreg-open3d.so" ]]; then
+  echo "check-install: the installed CLI loads the Open3D module '$cli_module', not build/install's" >&2
+  exit 1
+fi
+venv_module="$(cd /tmp && env -u PYTHONPATH -u ZEROREG_PYTHONPATH "$repo_root/build/venv/bin/python" \
+  -c 'import zeroreg; print(zeroreg.open3d_module_path())')"
+if [[ "$venv_module" != "$repo_root/build/venv/"*"/site-packages/zeroreg/libzeroreg-open3d.so" ]]; then
+  echo "check-install: the venv's package loads the Open3D module '$venv_module', not its own" >&2
+  exit 1
+fi
 echo "check-install: README blocks ran in $((SECONDS - start)) s"
 
 # 3. The Python tests against the installed package, from a folder outside the repository.

@@ -26,6 +26,7 @@
 #include "estimate/icp.hpp"
 #include "eval/metrics.hpp"
 #include "io/image_file.hpp"
+#include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -1015,4 +1016,8 @@ PYBIND11_MODULE(_zeroreg, m) {
       "(T_target_source, fitness, rmse_m, iterations).");
 
   m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
+  m.def("open3d_module_path", &open3d_module::LoadedModulePath,
+        "The file of libzeroreg-open3d.so, what zeroreg takes from Open3D (FPFH, point cloud "
+        "files, TSDF fusion), loading it if it is not yet (it is otherwise loaded only when "
+        "needed); raises ValueError naming every place looked in when it cannot be loaded.");
 }

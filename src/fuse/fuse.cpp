@@ -30,6 +30,12 @@ class TsdfVolume {
 
   // `T_fragment_camera` places the camera in the volume's frame.
   void Integrate(const View& view, const Transform& T_fragment_camera, double max_depth_m) {
+    if (view.depth.type() != CV_32FC1 || view.color.type() != CV_8UC3 ||
+        view.depth.size() != view.color.size()) {
+      throw MakeInputError(view.name,
+                           "colour and depth differ in size or type; TSDF fusion needs "
+                           "8-bit BGR colour and float depth of the same size");
+    }
     cv::Mat rgb;
     cv::cvtColor(view.color, rgb, cv::COLOR_BGR2RGB);
     open3d_module::RgbdFrame frame;

@@ -1,6 +1,7 @@
 #include "open3d_module/open3d_module.hpp"
 
 #include <dlfcn.h>
+#include <link.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -22,17 +23,18 @@ namespace {
 namespace fs = std::filesystem;
 
 // The program or shared object this code was linked into (the CLI, the test binary, the Python
-// extension), as the dynamic loader knows it.
+// extension). For a shared object, the path the dynamic loader opened; for the main program,
+// /proc/self/exe (the loader's name for it is argv[0], which the caller chooses).
 fs::path ThisObjectPath() {
   static const char anchor = 0;
   Dl_info info{};
-  if (::dladdr(&anchor, &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
-    std::error_code ec;
-    const fs::path resolved = fs::canonical(info.dli_fname, ec);
-    return ec ? fs::path(info.dli_fname) : resolved;
-  }
+  link_map* object = nullptr;
   std::error_code ec;
+  if (::dladdr1(&anchor, &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) != 0 &&
+      object != nullptr && object->l_name != nullptr && object->l_name[0] != '\0') {
+    const fs::path resolved = fs::canonical(object->l_name, ec);
+    return ec ? fs::path(object->l_name) : resolved;
+  }
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   return ec ? fs::path() : exe;
 }
@@ -53,19 +55,32 @@ const Api& Load() {
     }
     // RTLD_LOCAL: Open3D's symbols stay out of the global namespace (the Python extension is
     // loaded RTLD_LOCAL too). Never closed: the table points into it for the process's life.
-    void* handle = ::dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+    // An absolute path: dlopen would look a bare file name up in the library path instead.
+    const std::string file = fs::absolute(path, ec).string();
+    void* handle = ::dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
     if (handle == nullptr) {
-      const char* why = ::dlerror();
-      tried += "\n  " + path + ": " + (why != nullptr ? why : "cannot be loaded");
+      const char* error = ::dlerror();
+      std::string why = error != nullptr ? error : "cannot be loaded";
+      if (why.rfind(file + ": ", 0) == 0) why.erase(0, file.size() + 2);  // named once, below
+      tried += "\n  " + path + ": " + why;
       continue;
     }
     using EntryPoint = const Api* (*)();
     const auto entry = reinterpret_cast<EntryPoint>(::dlsym(handle, kEntryPoint));
-    const Api* api = entry != nullptr ? entry() : nullptr;
-    if (api == nullptr || api->abi_version != kAbiVersion) {
-      tried += "\n  " + path + ": not a zeroreg Open3D module of this build (interface version " +
-               std::to_string(api != nullptr ? api->abi_version : -1) + ", need " +
-               std::to_string(kAbiVersion) + ")";
+    if (entry == nullptr) {
+      const char* why = ::dlerror();
+      tried +=
+          "\n  " + path + ": not a zeroreg Open3D module (" + (why != nullptr ? why : "") + ")";
+      ::dlclose(handle);
+      continue;
+    }
+    const Api* api = entry();
+    if (api == nullptr || api->abi_version != kAbiVersion || api->layout != kLayout) {
+      tried += "\n  " + path + ": a zeroreg Open3D module of another build (interface " +
+               std::to_string(api != nullptr ? api->abi_version : -1) + "/" +
+               std::to_string(api != nullptr ? api->layout : 0) + ", this build needs " +
+               std::to_string(kAbiVersion) + "/" + std::to_string(kLayout) + ")";
+      ::dlclose(handle);
       continue;
     }
     LoadedFrom() = path;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -68,8 +69,17 @@ struct RgbdFrame {
   Eigen::Matrix4d T_camera_volume = Eigen::Matrix4d::Identity();  // volume frame -> camera
 };
 
+// What both sides' compilers made of the types above: the module must agree with its host on the
+// library ABI of std::string and std::vector and on Eigen's alignment, which the version number
+// alone does not say.
+constexpr std::size_t kLayout = sizeof(std::string) * 1000003u +
+                                sizeof(std::vector<double>) * 10007u +
+                                alignof(Eigen::Matrix4d) * 101u + sizeof(Eigen::MatrixXd) +
+                                sizeof(RgbdFrame) * 7u + sizeof(FeatureRansacResult) * 13u;
+
 struct Api {
   int abi_version = 0;
+  std::size_t layout = 0;  // kLayout of the module's build
   void (*compute_fpfh)(const std::vector<Eigen::Vector3d>& points, const FpfhRequest& request,
                        FpfhFeatures* out) = nullptr;
   void (*feature_ransac)(const FpfhFeatures& source, const FpfhFeatures& target,

@@ -4,6 +4,7 @@
 // it is missing.
 #include "open3d_module/open3d_module.hpp"
 
+#include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <open3d/geometry/KDTreeSearchParam.h>
 #include <open3d/geometry/PointCloud.h>
@@ -16,6 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 
 #include "assets/assets_test_util.hpp"
 #include "estimate/lift.hpp"
@@ -123,6 +125,27 @@ TEST(Open3dModule, SearchPathsHonourTheUsersFileAlone) {
   ASSERT_GE(paths.size(), 2u);
   EXPECT_TRUE(std::filesystem::exists(paths.front())) << paths.front();
   EXPECT_NE(paths.front().find(open3d_module::kFileName), std::string::npos);
+}
+
+// A file that is no shared library, and a shared library that is not the module: each refused
+// with what was wrong, never called.
+TEST(Open3dModule, SomethingElseInItsPlaceIsRefusedWithAReason) {
+  testing::TempDir dir;
+  testing::WriteFile(dir / "libzeroreg-open3d.so", std::string(200, 'x'));  // > an ELF header
+  Dl_info libc{};
+  ASSERT_NE(::dladdr(reinterpret_cast<void*>(&::strlen), &libc), 0);
+  const std::pair<std::string, std::string> cases[] = {
+      {dir / "libzeroreg-open3d.so", "invalid ELF header"},
+      {libc.dli_fname, "not a zeroreg Open3D module"}};
+  for (const auto& [file, reason] : cases) {
+    SCOPED_TRACE(file);
+    const auto r =
+        RunCommand("ZEROREG_OPEN3D_MODULE='" + file + "' '" + testing::CliPath() + "' fuse -d '" +
+                   RedkitchenDir() + "' -f 0,20 -o '" + (dir / "fragment") + "'");
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.output.find(file + ": "), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(reason), std::string::npos) << r.output;
+  }
 }
 
 TEST(Open3dModule, InfoSaysWhereTheModuleIsOrWhyItDoesNotLoad) {

@@ -156,6 +156,7 @@ extern "C" __attribute__((visibility("default"))) const api::Api* zeroreg_open3d
   static const api::Api table = [] {
     api::Api t;
     t.abi_version = api::kAbiVersion;
+    t.layout = api::kLayout;
     t.compute_fpfh = ComputeFpfh;
     t.feature_ransac = FeatureRansac;
     t.read_point_cloud = ReadPointCloud;
