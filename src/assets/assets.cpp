@@ -2,6 +2,7 @@
 #include "zeroreg/assets.hpp"
 
 #include <dlfcn.h>
+#include <link.h>
 #include <sys/stat.h>
 
 #include <cerrno>
@@ -145,6 +146,19 @@ std::string Sha256OfFile(const std::string& path) {
 
 namespace detail {
 
+std::string LoadedObjectPath() {
+  static const char anchor = 0;
+  Dl_info info{};
+  link_map* object = nullptr;
+  if (::dladdr1(&anchor, &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) != 0 &&
+      object != nullptr && object->l_name != nullptr && object->l_name[0] != '\0') {
+    return object->l_name;
+  }
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? std::string() : exe.string();
+}
+
 std::string InstalledAssetsDirFor(const std::string& binary_path) {
   const fs::path binary_dir = fs::absolute(binary_path).lexically_normal().parent_path();
   const fs::path share = fs::path("share") / "zeroreg" / "assets";
@@ -271,29 +285,10 @@ std::size_t AssetFilesHashedForTesting() {
 
 }  // namespace detail
 
-namespace {
-
-// The file this code was loaded from: the shared object (the Python extension) or the program
-// it is linked into. For the main program dladdr may give argv[0] without a folder, so the
-// kernel's name of the executable is used instead.
-std::string LoadedBinaryPath() {
-  static const char anchor = 0;
-  Dl_info info{};
-  if (::dladdr(&anchor, &info) != 0 && info.dli_fname != nullptr &&
-      std::strchr(info.dli_fname, '/') != nullptr) {
-    return info.dli_fname;
-  }
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string() : exe.string();
-}
-
-}  // namespace
-
 std::string ResolveAssetsDir(const std::string& explicit_dir) {
   const char* env = std::getenv("ZEROREG_ASSETS");
   std::vector<std::string> installed;
-  const std::string binary = LoadedBinaryPath();
+  const std::string binary = detail::LoadedObjectPath();
   if (!binary.empty()) installed.push_back(detail::InstalledAssetsDirFor(binary));
   if (installed.empty() || installed.front() != ZEROREG_INSTALL_ASSETS_DIR)
     installed.push_back(ZEROREG_INSTALL_ASSETS_DIR);

@@ -20,6 +20,12 @@ std::string ResolveAssetsDirFrom(const std::string& explicit_dir, const std::str
 // <binary folder>/../share/zeroreg/assets, the place an install would have put it.
 std::string InstalledAssetsDirFor(const std::string& binary_path);
 
+// The file of the program or shared object this code was linked into (the CLI, a test binary,
+// the Python extension): for a shared object the path the dynamic loader opened, for the main
+// program /proc/self/exe (the loader's name for it is argv[0], which the caller chooses); "" if
+// neither is known. What installed files are looked for beside (assets, the Open3D module).
+std::string LoadedObjectPath();
+
 // RequireAsset with the repository root passed in (its sha256 list is
 // <repo_dir>/scripts/assets.sha256, with <assets_dir>/assets.sha256 as fallback).
 std::string RequireAssetFrom(const std::string& assets_dir, const std::string& relative_path,

@@ -136,10 +136,8 @@ class FpfhMethod : public PairMethod {
     request.max_iterations = c_.max_iterations;
     request.confidence = c_.confidence;
     request.seed = static_cast<int>(c_.seed & 0x7fffffff);
-    open3d_module::FpfhFeatures src_features{src.points, src.features};
-    open3d_module::FpfhFeatures tgt_features{tgt.points, tgt.features};
     open3d_module::FeatureRansacResult result;
-    open3d_module::Module().feature_ransac(src_features, tgt_features, request, &result);
+    open3d_module::Module().feature_ransac(src, tgt, request, &result);
     // The putative correspondences RANSAC samples from (mutual filter off): each source point
     // with its nearest target point in FPFH space. Kept for the inlier ratio under the GT pose.
     for (size_t s = 0; s < src.points.size(); ++s) {

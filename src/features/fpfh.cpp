@@ -3,26 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 #include <vector>
 
-#include "open3d_module/open3d_module.hpp"
 #include "parallel/parallel_for.hpp"
 
 namespace zeroreg {
 
 FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhParams& p) {
-  open3d_module::FpfhRequest request;
-  request.voxel_m = p.voxel_m;
-  request.normal_radius_m = p.normal_radius_voxels * p.voxel_m;
-  request.normal_max_nn = p.normal_max_nn;
-  request.feature_radius_m = p.feature_radius_voxels * p.voxel_m;
-  request.feature_max_nn = p.feature_max_nn;
-  open3d_module::FpfhFeatures features;
-  open3d_module::Module().compute_fpfh(points, request, &features);
   FpfhCloud out;
-  out.points = std::move(features.points);
-  out.features = std::move(features.features);
+  open3d_module::Module().compute_fpfh(points, p, &out);
   return out;
 }
 

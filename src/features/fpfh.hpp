@@ -8,20 +8,13 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "open3d_module/open3d_module.hpp"
+
 namespace zeroreg {
 
-struct FpfhParams {
-  double voxel_m = 0.05;               // voxel down-sampling
-  double normal_radius_voxels = 2.0;   // normals: hybrid search radius, in voxels
-  int normal_max_nn = 30;              // normals: at most this many neighbours
-  double feature_radius_voxels = 5.0;  // FPFH: hybrid search radius, in voxels
-  int feature_max_nn = 100;            // FPFH: at most this many neighbours
-};
-
-struct FpfhCloud {
-  std::vector<Eigen::Vector3d> points;  // the down-sampled points
-  Eigen::MatrixXd features;             // 33 x points.size(), a column per point
-};
+// The parameters (radii in voxels) and the result: points and 33 x N features.
+using FpfhParams = open3d_module::FpfhParams;
+using FpfhCloud = open3d_module::FpfhCloud;
 
 // Throws InputError when the Open3D module cannot be loaded (open3d_module::Module).
 FpfhCloud ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const FpfhParams& params);

@@ -1,14 +1,13 @@
 #include "open3d_module/open3d_module.hpp"
 
 #include <dlfcn.h>
-#include <link.h>
 
 #include <algorithm>
 #include <cstdlib>
-#include <cstring>
 #include <filesystem>
 #include <mutex>
 
+#include "assets/assets_internal.hpp"
 #include "zeroreg/error.hpp"
 
 #if !defined(ZEROREG_INSTALL_OPEN3D_MODULE) || !defined(ZEROREG_INSTALL_LIBDIR) || \
@@ -22,30 +21,13 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The program or shared object this code was linked into (the CLI, the test binary, the Python
-// extension). For a shared object, the path the dynamic loader opened; for the main program,
-// /proc/self/exe (the loader's name for it is argv[0], which the caller chooses).
-fs::path ThisObjectPath() {
-  static const char anchor = 0;
-  Dl_info info{};
-  link_map* object = nullptr;
-  std::error_code ec;
-  if (::dladdr1(&anchor, &info, reinterpret_cast<void**>(&object), RTLD_DL_LINKMAP) != 0 &&
-      object != nullptr && object->l_name != nullptr && object->l_name[0] != '\0') {
-    const fs::path resolved = fs::canonical(object->l_name, ec);
-    return ec ? fs::path(object->l_name) : resolved;
-  }
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path() : exe;
-}
+// What Load() found: the module's table and the file it came from.
+struct Loaded {
+  const Api* api = nullptr;
+  std::string path;
+};
 
-// The file Load() loaded the module from.
-std::string& LoadedFrom() {
-  static std::string path;
-  return path;
-}
-
-const Api& Load() {
+Loaded Load() {
   std::string tried;
   for (const std::string& path : ModuleSearchPaths()) {
     std::error_code ec;
@@ -83,8 +65,7 @@ const Api& Load() {
       ::dlclose(handle);
       continue;
     }
-    LoadedFrom() = path;
-    return *api;
+    return {api, path};
   }
   throw MakeInputError(
       kFileName,
@@ -103,9 +84,11 @@ std::vector<std::string> ModuleSearchPaths() {
     return {env};
   }
   std::vector<std::string> paths;
-  const fs::path self = ThisObjectPath();
+  const std::string self = detail::LoadedObjectPath();
   if (!self.empty()) {
-    const fs::path dir = self.parent_path();
+    std::error_code ec;
+    const fs::path resolved = fs::canonical(self, ec);
+    const fs::path dir = (ec ? fs::path(self) : resolved).parent_path();
     paths.push_back((dir / kFileName).string());
     paths.push_back(
         (dir / ".." / ZEROREG_INSTALL_LIBDIR / "zeroreg" / kFileName).lexically_normal().string());
@@ -118,19 +101,22 @@ std::vector<std::string> ModuleSearchPaths() {
   return paths;
 }
 
-const Api& Module() {
-  // A failed load is tried again on the next call (the error names what to fix), so the result is
-  // not a function-local static.
+namespace {
+
+// A failed load is tried again on the next call (the error names what to fix), so the result is
+// not a function-local static initialised once.
+const Loaded& LoadedModule() {
   static std::mutex mutex;
-  static const Api* loaded = nullptr;
+  static Loaded loaded;
   std::lock_guard<std::mutex> lock(mutex);
-  if (loaded == nullptr) loaded = &Load();
-  return *loaded;
+  if (loaded.api == nullptr) loaded = Load();
+  return loaded;
 }
 
-std::string LoadedModulePath() {
-  Module();
-  return LoadedFrom();
-}
+}  // namespace
+
+const Api& Module() { return *LoadedModule().api; }
+
+std::string LoadedModulePath() { return LoadedModule().path; }
 
 }  // namespace zeroreg::open3d_module

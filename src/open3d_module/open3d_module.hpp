@@ -25,15 +25,16 @@ namespace zeroreg::open3d_module {
 constexpr int kAbiVersion = 1;
 
 // FPFH (Rusu et al., ICRA 2009) of a cloud: voxel down-sampling, normals (hybrid search), then
-// one 33-bin histogram per kept point.
-struct FpfhRequest {
-  double voxel_m = 0.05;
-  double normal_radius_m = 0.1;
-  int normal_max_nn = 30;
-  double feature_radius_m = 0.25;
-  int feature_max_nn = 100;
+// one 33-bin histogram per kept point (features/fpfh.hpp names these zeroreg::FpfhParams and
+// zeroreg::FpfhCloud).
+struct FpfhParams {
+  double voxel_m = 0.05;               // voxel down-sampling
+  double normal_radius_voxels = 2.0;   // normals: hybrid search radius, in voxels
+  int normal_max_nn = 30;              // normals: at most this many neighbours
+  double feature_radius_voxels = 5.0;  // FPFH: hybrid search radius, in voxels
+  int feature_max_nn = 100;            // FPFH: at most this many neighbours
 };
-struct FpfhFeatures {
+struct FpfhCloud {
   std::vector<Eigen::Vector3d> points;  // the down-sampled points
   Eigen::MatrixXd features;             // 33 x points.size(), a column per point
 };
@@ -80,9 +81,9 @@ constexpr std::size_t kLayout = sizeof(std::string) * 1000003u +
 struct Api {
   int abi_version = 0;
   std::size_t layout = 0;  // kLayout of the module's build
-  void (*compute_fpfh)(const std::vector<Eigen::Vector3d>& points, const FpfhRequest& request,
-                       FpfhFeatures* out) = nullptr;
-  void (*feature_ransac)(const FpfhFeatures& source, const FpfhFeatures& target,
+  void (*compute_fpfh)(const std::vector<Eigen::Vector3d>& points, const FpfhParams& params,
+                       FpfhCloud* out) = nullptr;
+  void (*feature_ransac)(const FpfhCloud& source, const FpfhCloud& target,
                          const FeatureRansacRequest& request, FeatureRansacResult* out) = nullptr;
   // Point cloud files in any format Open3D reads or writes (by extension); false on failure.
   // Colours (RGB in [0, 1]) and normals may be empty, or one per point.

@@ -34,16 +34,17 @@ void QuietOnce() {
       once, [] { open3d::utility::SetVerbosityLevel(open3d::utility::VerbosityLevel::Error); });
 }
 
-void ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const api::FpfhRequest& r,
-                 api::FpfhFeatures* out) {
+void ComputeFpfh(const std::vector<Eigen::Vector3d>& points, const api::FpfhParams& p,
+                 api::FpfhCloud* out) {
   QuietOnce();
   PointCloud full;
   full.points_ = points;
-  const std::shared_ptr<PointCloud> cloud = full.VoxelDownSample(r.voxel_m);
-  cloud->EstimateNormals(
-      open3d::geometry::KDTreeSearchParamHybrid(r.normal_radius_m, r.normal_max_nn));
-  const std::shared_ptr<reg::Feature> feature = reg::ComputeFPFHFeature(
-      *cloud, open3d::geometry::KDTreeSearchParamHybrid(r.feature_radius_m, r.feature_max_nn));
+  const std::shared_ptr<PointCloud> cloud = full.VoxelDownSample(p.voxel_m);
+  cloud->EstimateNormals(open3d::geometry::KDTreeSearchParamHybrid(
+      p.normal_radius_voxels * p.voxel_m, p.normal_max_nn));
+  const std::shared_ptr<reg::Feature> feature =
+      reg::ComputeFPFHFeature(*cloud, open3d::geometry::KDTreeSearchParamHybrid(
+                                          p.feature_radius_voxels * p.voxel_m, p.feature_max_nn));
   out->points = std::move(cloud->points_);
   out->features = std::move(feature->data_);
 }
@@ -55,7 +56,7 @@ std::mutex& RandomMutex() {
   return mutex;
 }
 
-void FeatureRansac(const api::FpfhFeatures& source, const api::FpfhFeatures& target,
+void FeatureRansac(const api::FpfhCloud& source, const api::FpfhCloud& target,
                    const api::FeatureRansacRequest& r, api::FeatureRansacResult* out) {
   QuietOnce();
   PointCloud src, tgt;
