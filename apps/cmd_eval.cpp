@@ -5,12 +5,16 @@
 //   zeroreg eval pairs --data DIR --gap 20 [--step 10] [--first 0] --out results/pairs-g20
 //   zeroreg eval pairs --data DIR --list ../shared/lists/hololens-gap1 --out results/hololens-gap1
 //   zeroreg eval merge results/shard-0 results/shard-1 ... --out results/merged
+#include <sched.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <set>
+#include <string>
+#include <thread>
 
 #include "commands.hpp"
 #include "config_options.hpp"
@@ -30,10 +34,25 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
+// --jobs: 0 means one job per processor this process may run on (as `nproc` counts them: the
+// affinity mask that taskset, cgroups' cpusets or a Slurm allocation set, else every hardware
+// thread). Pairs are independent and every record depends on its inputs and seed only, so using
+// every core changes the time, never a record; the jobs share one prepared-scan cache, so its
+// memory budget holds whatever the count.
+int JobsToRun(int requested) {
+  if (requested > 0) return requested;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  if (sched_getaffinity(0, sizeof(allowed), &allowed) == 0 && CPU_COUNT(&allowed) > 0) {
+    return CPU_COUNT(&allowed);
+  }
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
+
 // Options every protocol shares.
 struct CommonOptions {
   std::string out, method = "zeroreg", pairs_file, shard = "0/1";
-  int jobs = 1, limit = 0;
+  int jobs = 0, limit = 0;  // jobs 0 = one per hardware thread (JobsToRun)
   bool no_progress = false;
   PreparedCacheOptions cache;  // zeroreg / image: prepared scans kept across pairs
   ConfigOptions config;
@@ -52,9 +71,10 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
   app.add_option(
          "--jobs,-j", o->jobs,
          "pairs evaluated in parallel (zeroreg/image: sharing one Pipeline and its prepared "
-         "scans)")
+         "scans); 0 = one per processor this process may use (" +
+             std::to_string(JobsToRun(0)) + " here). Records are the same for any value")
       ->capture_default_str()
-      ->check(InRange(1, 256, /*integer=*/true));
+      ->check(InRange(0, 256, /*integer=*/true));
   app.add_option("--limit", o->limit, "only the first N selected pairs (0 = all)")
       ->check(AtLeast(0, /*integer=*/true));
   app.add_option("--pairs", o->pairs_file,
@@ -139,7 +159,7 @@ PreparedCacheOptions CacheFor(const CommonOptions& o, const std::vector<PairTask
 int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vector<PairTask>& mine,
                     const MethodFactory& factory, const ScanLoader& loader) {
   RunOptions run;
-  run.jobs = o.jobs;
+  run.jobs = JobsToRun(o.jobs);
   run.progress = !o.no_progress;
   run.label = o.method;
   RunStats stats;
@@ -255,7 +275,7 @@ int RunMatch(const MatchOptions& o) {
     needed.insert(t.source_id);
   }
   const int built = EnsureFragments(fragments, std::vector<int>(needed.begin(), needed.end()),
-                                    o.common.jobs, !o.common.no_progress);
+                                    JobsToRun(o.common.jobs), !o.common.no_progress);
   std::fprintf(stderr, "fragments: %zu needed, %d fused now, %zu reused from %s\n", needed.size(),
                built, needed.size() - built, o.cache.c_str());
   if (o.fuse_only) return kExitOk;

@@ -10,11 +10,12 @@
 #     whole-process wall time and peak RSS per list for both, and the ratio zeroreg / SIFT.
 #
 #   bash scripts/bench-speed.sh eval [LIMIT=20] [LIST ...]   (list names; default: every non-cross list)
-#     `zeroreg eval pairs --limit LIMIT --jobs 1` over each sequence list, with the prepared-scan
-#     cache (default) and without it (--prepared-cache 0: every pair prepares both scans, as
-#     registering them one by one in one process does), and the same LIMIT pairs registered one
-#     by one as their own processes (`zeroreg register` per pair, as a shell loop would): total
-#     wall time, CPU time and peak RSS of each, and the ratios of the cached eval to the other two.
+#     `zeroreg eval pairs --limit LIMIT` over each sequence list as a user runs it (default
+#     --jobs: one per hardware thread), then with --jobs 1, with --jobs 1 and without the
+#     prepared-scan cache (--prepared-cache 0: every pair prepares both scans, as registering them
+#     one by one in one process does), and the same LIMIT pairs registered one by one as their own
+#     processes (`zeroreg register` per pair, as a shell loop would): total wall time, CPU time
+#     and peak RSS of each, and the ratios of each eval to the processes.
 #
 #   bash scripts/bench-speed.sh fragments [K=6] [RUNS=3]
 #     K fragment pairs of 3DMatch / 3DLoMatch redkitchen (evenly spread over the two gt.log files
@@ -140,19 +141,20 @@ elif mode == "eval":
     chosen = [a for a in args if not a.startswith("-") and a in lists]
     args = [a for a in args if a not in chosen]
     chosen = chosen or [l for l in lists if "cross" not in l]
-    print(f"zeroreg eval pairs --limit {limit} --jobs 1 {' '.join(args)}: total wall s (CPU s); "
-          "ratio = cached eval / the other")
-    print(f"  {'list':18s} {'cached':>13s} {'uncached':>13s} {'ratio':>6s} {'processes':>13s} "
-          f"{'ratio':>6s} {'RSS MiB':>7s} {'uncached':>8s}")
+    print(f"zeroreg eval pairs --limit {limit} {' '.join(args)}: total wall s (CPU s); "
+          "ratio = that eval / one process per pair")
+    runs = (("default", []), ("--jobs 1", ["--jobs", "1"]),
+            ("--jobs 1 uncached", ["--jobs", "1", "--prepared-cache", "0"]))
+    print(f"  {'list':18s} " + " ".join(f"{label:>20s}" for label, _ in runs) +
+          f" {'processes':>13s} {'RSS MiB':>8s}")
     for name in chosen:
         row = []
-        for cache in ([], ["--prepared-cache", "0"]):
+        for _, options in runs:
             with tempfile.TemporaryDirectory() as out:
                 cpu = []
                 code, wall, rss = timed([binary, "eval", "pairs", "--list", f"{lists_dir}/{name}",
                                          "--data", scene(name), "--out", f"{out}/run", "--limit",
-                                         limit, "--jobs", "1", "--no-progress"] + cache + args,
-                                        cpu)
+                                         limit, "--no-progress"] + options + args, cpu)
                 if code != 0:  # 1: some pairs failed with an error; 2: bad input; 3: internal
                     print(f"  {name}: eval failed with exit code {code}", file=sys.stderr)
                 row.append((wall, rss, cpu[0]))
@@ -166,10 +168,11 @@ elif mode == "eval":
             if code not in (0, 1):  # 1 = ran, but the registration is not valid
                 print(f"  {name} {i} {j}: register failed with exit code {code}", file=sys.stderr)
             wall_sum += wall
-        row.append((wall_sum, 0, sum(cpu)))
-        cell = lambda r: f"{r[0]:6.2f} ({r[2]:5.1f})"
-        print(f"  {name:18s} {cell(row[0])} {cell(row[1])} {row[0][0] / row[1][0]:6.2f} "
-              f"{cell(row[2])} {row[0][0] / row[2][0]:6.2f} {row[0][1]:7.0f} {row[1][1]:8.0f}")
+        processes = (wall_sum, 0, sum(cpu))
+        cell = lambda r: f"{r[0]:5.2f} ({r[2]:4.1f}) {r[0] / processes[0]:4.2f}"
+        print(f"  {name:18s} " + " ".join(f"{cell(r):>20s}" for r in row) +
+              f" {processes[0]:6.2f} ({processes[2]:4.1f}) {row[0][1]:8.0f}")
+    print(f"load average now {os.getloadavg()[0]:.1f}")
 elif mode == "fragments":
     k, runs = (int(x) for x in positional(2, ["6", "3"]))
     fragments = os.environ.get("FRAGMENTS", "cache/fragments/7-scenes-redkitchen")

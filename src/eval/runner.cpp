@@ -233,6 +233,22 @@ std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::
     for (std::thread& t : threads) t.join();
     bar.Finish();
     if (!out) throw MakeInputError(jsonl_path, "failed writing the pair results file");
+    out.close();
+    // Several jobs appended in finishing order; the finished file is in task order, so that it
+    // does not depend on the job count. Records of other tasks (an earlier run's larger --limit)
+    // keep their order after these; a superseded error record stays before its retry.
+    if (jobs > 1) {
+      std::map<std::string, size_t> task_index;
+      for (size_t k = 0; k < tasks.size(); ++k) task_index.emplace(tasks[k].Key(), k);
+      const auto index_of = [&](const PairRecord& r) {
+        const auto it = task_index.find(r.key);
+        return it == task_index.end() ? tasks.size() : it->second;
+      };
+      std::stable_sort(
+          existing.begin(), existing.end(),
+          [&](const PairRecord& a, const PairRecord& b) { return index_of(a) < index_of(b); });
+      WritePairsJsonl(jsonl_path, existing);
+    }
   }
 
   // Latest record per key, in task order.

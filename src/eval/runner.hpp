@@ -4,8 +4,8 @@
 // a run that is killed loses at most the pairs in flight; a restart skips every pair already
 // there. With --jobs N, N threads each own one method instance (a Pipeline is not shared) and
 // take pairs from a common queue; every pair's result depends on its inputs and seed only, so the
-// records are those of --jobs 1 (the line order of pairs.jsonl may differ; summaries and est.log
-// follow the task order).
+// records are those of --jobs 1. While several jobs run, pairs.jsonl grows in finishing order; when
+// they are done it is rewritten (atomically) in task order, as summaries and est.log are.
 #pragma once
 
 #include <chrono>

@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 
 #include "eval/protocols.hpp"
 #include "eval/runner.hpp"
@@ -48,6 +50,8 @@ class FakeMethod : public PairMethod {
   MethodOutput Run(const Scan& source, const Scan& target) override {
     ++*calls_;
     const int s = std::stoi(source.name), t = std::stoi(target.name);
+    // The first pair is slow, so that with two jobs it finishes after the second one.
+    if (t == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
     MethodOutput o;
     const Transform gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
     o.T_target_source = gt * Pose(0.37 * ((s + t) % 11), 0.013 * (s % 7));
@@ -173,6 +177,25 @@ TEST_F(EvalRunner, TwoJobsGiveTheRecordsOfOneJob) {
     a.time_ms = b.time_ms = 0;  // wall time differs
     EXPECT_EQ(PairRecordToJson(a), PairRecordToJson(b)) << k;
   }
+  // The file, too, is in task order once the jobs are done (the slow first pair finished last).
+  const std::string two_file = (dir_ / "two" / "pairs.jsonl").string();
+  std::vector<PairRecord> lines = ReadPairsJsonl(two_file);
+  ASSERT_EQ(lines.size(), tasks.size());
+  for (size_t k = 0; k < tasks.size(); ++k) EXPECT_EQ(lines[k].key, tasks[k].Key()) << k;
+
+  // A later run over other pairs puts them first, in its order, and keeps the other records.
+  const std::vector<PairTask> rerun = {tasks[7], tasks[1]};
+  std::vector<PairRecord> kept;
+  for (const PairRecord& r : lines) {
+    if (r.key != tasks[1].Key() && r.key != tasks[7].Key()) kept.push_back(r);
+  }
+  WritePairsJsonl(two_file, kept);  // as if pairs 1 and 7 had not finished
+  Run(rerun, "two", 2);
+  lines = ReadPairsJsonl(two_file);
+  ASSERT_EQ(lines.size(), tasks.size());
+  EXPECT_EQ(lines[0].key, tasks[7].Key());
+  EXPECT_EQ(lines[1].key, tasks[1].Key());
+  for (size_t k = 2; k < lines.size(); ++k) EXPECT_EQ(lines[k].key, kept[k - 2].key) << k;
 }
 
 TEST_F(EvalRunner, MergedShardsGiveTheSummaryOfASingleRun) {

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "eval/metrics.hpp"
@@ -123,6 +124,30 @@ TEST_F(EvalSmoke, ShardsMergedThroughTheCliEqualTheSingleRun) {
     (*j)[0].erase("median_time_ms");
   }
   EXPECT_EQ(a, b);
+}
+
+// --jobs defaults to one job per hardware thread; the records are those of --jobs 1 (pairs are
+// independent and seeded), whatever the machine's core count.
+TEST_F(EvalSmoke, DefaultJobsGiveTheRecordsOfOneJob) {
+  const std::string common = "eval pairs --data '" + RedkitchenDir() +
+                             "' --gap 20 --limit 4 --features sift --no-progress";
+  ASSERT_EQ(RunCli(common + " --out '" + Out("auto") + "'").exit_code, 0);
+  ASSERT_EQ(RunCli(common + " --jobs 1 --out '" + Out("one") + "'").exit_code, 0);
+  std::map<std::string, PairRecord> one;
+  for (PairRecord& r : ReadPairsJsonl(Out("one") + "/pairs.jsonl")) one[r.key] = r;
+  const std::vector<PairRecord> automatic = ReadPairsJsonl(Out("auto") + "/pairs.jsonl");
+  ASSERT_EQ(automatic.size(), 4u);
+  ASSERT_EQ(one.size(), 4u);
+  for (const PairRecord& r : automatic) {
+    SCOPED_TRACE(r.key);
+    ASSERT_EQ(one.count(r.key), 1u);
+    EXPECT_EQ(r.T_est, one[r.key].T_est);
+    EXPECT_EQ(r.valid, one[r.key].valid);
+    EXPECT_EQ(r.path, one[r.key].path);
+  }
+  const auto negative = RunCli(common + " --jobs -1 --out '" + Out("neg") + "'");
+  EXPECT_EQ(negative.exit_code, 2) << negative.output;
+  EXPECT_NE(negative.output.find("--jobs"), std::string::npos) << negative.output;
 }
 
 TEST_F(EvalSmoke, PairListRunWritesEstLogAndScoresAgainstGtLog) {
