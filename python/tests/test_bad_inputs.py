@@ -204,6 +204,15 @@ def test_input_error_from_cpp_is_a_value_error(sift_pipeline):
         zeroreg.read_depth("no/such.png")
 
 
+def test_a_path_argument_of_another_type_is_a_type_error_naming_it():
+    with pytest.raises(TypeError, match=re.escape("spec: got int; expected a path")):
+        zeroreg.load_scan(5)
+    with pytest.raises(TypeError, match=re.escape("path: got float; expected a path")):
+        zeroreg.read_color(1.5)
+    with pytest.raises(TypeError, match=re.escape("path: got NoneType; expected a path")):
+        zeroreg.read_depth(None)
+
+
 # Config messages come from the C++ config reader (zeroreg::ApplyConfigJson), whose exact
 # punctuation is its own; the test pins what matters: the argument, the key and the problem.
 @pytest.mark.parametrize(

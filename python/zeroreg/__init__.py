@@ -130,7 +130,7 @@ def _native(scan: Any, where: str) -> Union[str, dict, PreparedScan]:
     return scan
 
 
-def load_scan(spec: Union[str, "os.PathLike[str]"], depth_scale: Optional[float] = None) -> Scan:
+def load_scan(spec: Union[str, bytes, "os.PathLike[str]"], depth_scale: Optional[float] = None) -> Scan:
     """Loads a scan from disk like the CLI does and returns it as arrays.
 
     spec: "DIR@N" (frame N of a 3DMatch / TUM / ScanNet folder), a scan.json or its folder, or a
@@ -138,7 +138,8 @@ def load_scan(spec: Union[str, "os.PathLike[str]"], depth_scale: Optional[float]
     depth_scale: raw depth units per metre; None = the layout's default (1000, TUM 5000).
     The returned views hold RGB colour and float32 depth in metres (depth_scale None).
     """
-    d = _zeroreg.load_scan(os.fspath(spec), 0.0 if depth_scale is None else float(depth_scale))
+    # The compiled module takes str, bytes and os.PathLike itself (TypeError naming `spec` else).
+    d = _zeroreg.load_scan(spec, 0.0 if depth_scale is None else float(depth_scale))
     d["views"] = [View(**v) for v in d["views"]]
     return Scan(**d)
 
