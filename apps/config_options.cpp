@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
 
@@ -105,6 +106,15 @@ PipelineConfig BuildConfig(const ConfigOptions& o) {
   }
   for (const std::string& assignment : o.overrides) ApplyConfigOverride(assignment, &config);
   return config;
+}
+
+bool GivesTopLevelKey(const ConfigOptions& o, const std::string& key) {
+  for (const std::string& assignment : o.overrides) {
+    if (assignment.compare(0, key.size() + 1, key + "=") == 0) return true;
+  }
+  if (o.config_file.empty()) return false;
+  const nlohmann::json file = detail::ReadJsonFile(o.config_file, "config file");
+  return file.is_object() && file.contains(key);
 }
 
 }  // namespace zeroreg::cli

@@ -22,6 +22,8 @@ struct ConfigOptions {
 void AddConfigOptions(CLI::App& app, ConfigOptions* options);
 // Throws InputError naming the option (--config file, --seed, --assets, --set) that is wrong.
 PipelineConfig BuildConfig(const ConfigOptions& options);
+// Whether the --config file or a --set gives the top-level config key `key` (e.g. "threads").
+bool GivesTopLevelKey(const ConfigOptions& options, const std::string& key);
 
 // Validators with messages in the option's own terms ("--gap: is 0; expected an integer >= 1"),
 // instead of CLI11's "Value 0 not in range 0.000000 to 1797...".

@@ -85,6 +85,21 @@ RunInfo RunInfoFromJson(const json& j, const std::string& where) {
   return info;
 }
 
+namespace {
+
+// The settings that decide a pair's result: the pipeline's `threads` does not (every result is
+// bit-identical for any thread count:
+// PreparedScan.OneThreadAndTwoThreadsGiveTheSameTransformBitForBit,
+// Icp.ThreadCountDoesNotChangeOneBitAndPreparedGeometryIsReusable), and `zeroreg eval` sets it from
+// --jobs, so a folder may be resumed or merged with another --jobs or `threads`.
+json ResultSettings(const json& settings) {
+  json out = settings;
+  if (out.contains("pipeline") && out["pipeline"].is_object()) out["pipeline"].erase("threads");
+  return out;
+}
+
+}  // namespace
+
 RunInfo ReadRunInfo(const std::string& out_dir) {
   const std::string path = (fs::path(out_dir) / "run.json").string();
   return RunInfoFromJson(detail::ReadJsonFile(path, "run.json of a `zeroreg eval` results folder"),
@@ -104,7 +119,8 @@ OutDirLock PrepareOutDir(const std::string& out_dir, const RunInfo& info) {
     if (old.protocol != info.protocol) throw differs("protocol");
     if (old.method != info.method) throw differs("method");
     // Compared as written: a path that is not UTF-8 was stored with U+FFFD.
-    if (old.settings != json::parse(detail::DumpJson(info.settings))) {
+    if (ResultSettings(old.settings) !=
+        ResultSettings(json::parse(detail::DumpJson(info.settings)))) {
       throw differs("config or data settings");
     }
   }
@@ -165,7 +181,9 @@ EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& o
       };
       if (info.protocol != merged.protocol) throw differs("protocol");
       if (info.method != merged.method) throw differs("method");
-      if (info.settings != merged.settings) throw differs("config or data settings");
+      if (ResultSettings(info.settings) != ResultSettings(merged.settings)) {
+        throw differs("config or data settings");
+      }
       if (RunInfoToJson(info)["pairs"] != RunInfoToJson(merged)["pairs"]) {
         throw differs("pair selection (--pairs / --limit)");
       }

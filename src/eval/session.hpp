@@ -20,7 +20,8 @@ struct RunInfo {
   std::string protocol;  // "3dmatch" or "pairs"
   std::string method;    // "zeroreg", "image" or "fpfh"
   // Everything that decides a pair's result (method config, data, fusion settings). A folder is
-  // resumed, and shard folders are merged, only when it is identical.
+  // resumed, and shard folders are merged, only when it is identical but for the pipeline's
+  // `threads` (recorded, but no result depends on it).
   nlohmann::json settings = nlohmann::json::object();
   std::vector<PairTask> tasks;  // the selection before --shard
   std::string shard = "0/1";    // "i/N", or "merged"

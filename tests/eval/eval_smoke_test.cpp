@@ -2,6 +2,7 @@
 // so no model is needed). Every metric the runner reports is recomputed here from the per-pair
 // JSON lines, the dataset's poses and the benchmark's gt.log / gt.info.
 #include <gtest/gtest.h>
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -148,6 +149,25 @@ TEST_F(EvalSmoke, DefaultJobsGiveTheRecordsOfOneJob) {
   const auto negative = RunCli(common + " --jobs -1 --out '" + Out("neg") + "'");
   EXPECT_EQ(negative.exit_code, 2) << negative.output;
   EXPECT_NE(negative.output.find("--jobs"), std::string::npos) << negative.output;
+
+  // The jobs share the processors: one thread per pipeline with a job per processor, the default
+  // (2) with one job on two or more; the config's own `threads` wins. No record depends on it, so
+  // a folder resumes under another --jobs.
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  ASSERT_EQ(sched_getaffinity(0, sizeof(allowed), &allowed), 0);
+  const int processors = CPU_COUNT(&allowed);
+  const auto threads = [&](const std::string& name) {
+    return ReadJson(Out(name) + "/run.json")["settings"]["pipeline"]["threads"].get<int>();
+  };
+  EXPECT_EQ(threads("auto"), 1);
+  EXPECT_EQ(threads("one"), std::min(2, processors));
+  ASSERT_EQ(RunCli(common + " --set threads=2 --out '" + Out("set") + "'").exit_code, 0);
+  EXPECT_EQ(threads("set"), 2);
+  const auto resumed = RunCli(common + " --jobs 1 --out '" + Out("auto") + "'");
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("0 pairs evaluated now, 4 reused"), std::string::npos)
+      << resumed.output;
 }
 
 TEST_F(EvalSmoke, PairListRunWritesEstLogAndScoresAgainstGtLog) {
