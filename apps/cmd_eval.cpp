@@ -36,23 +36,27 @@ using nlohmann::json;
 
 // --jobs: 0 means one job per processor this process may run on (as `nproc` counts them: the
 // affinity mask that taskset, cgroups' cpusets or a Slurm allocation set, else every hardware
-// thread). Pairs are independent and every record depends on its inputs and seed only, so using
-// every core changes the time, never a record; the jobs share one prepared-scan cache, so its
-// memory budget holds whatever the count.
+// thread). Pairs are independent and a record depends on its inputs and seed only (fpfh: with
+// OMP_NUM_THREADS=1, docs/EVAL.md), so using every core changes the time, never a record. Memory
+// grows with the count: the jobs share one prepared-scan cache (its budget holds), but each adds
+// its working memory, and `eval 3dmatch` fuses that many fragments at once (docs/EVAL.md). At most
+// 256, the bound of --jobs.
 int JobsToRun(int requested) {
   if (requested > 0) return requested;
+  constexpr int kMaxJobs = 256;
   cpu_set_t allowed;
   CPU_ZERO(&allowed);
   if (sched_getaffinity(0, sizeof(allowed), &allowed) == 0 && CPU_COUNT(&allowed) > 0) {
-    return CPU_COUNT(&allowed);
+    return std::min(kMaxJobs, CPU_COUNT(&allowed));
   }
-  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return static_cast<int>(
+      std::clamp(std::thread::hardware_concurrency(), 1u, static_cast<unsigned>(kMaxJobs)));
 }
 
 // Options every protocol shares.
 struct CommonOptions {
   std::string out, method = "zeroreg", pairs_file, shard = "0/1";
-  int jobs = 0, limit = 0;  // jobs 0 = one per hardware thread (JobsToRun)
+  int jobs = 0, limit = 0;  // jobs 0 = one per processor this process may use (JobsToRun)
   bool no_progress = false;
   PreparedCacheOptions cache;  // zeroreg / image: prepared scans kept across pairs
   ConfigOptions config;
@@ -72,7 +76,8 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
          "--jobs,-j", o->jobs,
          "pairs evaluated in parallel (zeroreg/image: sharing one Pipeline and its prepared "
          "scans); 0 = one per processor this process may use (" +
-             std::to_string(JobsToRun(0)) + " here). Records are the same for any value")
+             std::to_string(JobsToRun(0)) +
+             " here, at most 256). zeroreg, image, sift and orb records are the same for any value")
       ->capture_default_str()
       ->check(InRange(0, 256, /*integer=*/true));
   app.add_option("--limit", o->limit, "only the first N selected pairs (0 = all)")
@@ -134,14 +139,6 @@ Method ResolveMethod(const CommonOptions& o) {
   CheckMethodName(o.method);
   Method m;
   m.pipeline = MethodPipelineConfig(o.method, BuildConfig(o.config));
-  // Unless the config gives `threads`, the jobs share the processors: each pipeline gets
-  // processors / jobs threads, at least 1 and at most the default. With as many jobs as
-  // processors a pipeline's second thread only competes with the other job's (4-5 % more wall
-  // time and 30-75 MiB more memory over 20 pairs, docs/SPEED.md). No result depends on it.
-  if (!GivesTopLevelKey(o.config, "threads")) {
-    m.pipeline.threads =
-        std::min(m.pipeline.threads, std::max(1, JobsToRun(0) / JobsToRun(o.jobs)));
-  }
   m.fpfh.seed = m.pipeline.seed;
   m.features.detector = o.method;
   m.features.seed = m.pipeline.seed;
@@ -153,6 +150,21 @@ Method ResolveMethod(const CommonOptions& o) {
     m.settings = json{{"pipeline", ConfigToJson(m.pipeline)}};
   }
   return m;
+}
+
+// Unless the config gives `threads`, the jobs share the processors: each job's pipeline gets
+// processors / jobs threads, at least 1 and at most the config's, counting only the jobs that will
+// run (at most one per pair). With as many jobs as processors a pipeline's second thread only
+// competes with the other job's (4-5 % more wall time and 30-75 MiB more memory over 20 pairs,
+// docs/SPEED.md). No result depends on it; run.json records the value used.
+void ShareProcessors(const CommonOptions& o, size_t pairs, Method* m, RunInfo* info) {
+  if (GivesTopLevelKey(o.config, "threads")) return;
+  const int jobs = std::min<int>(JobsToRun(o.jobs), static_cast<int>(std::max<size_t>(pairs, 1)));
+  m->pipeline.threads = std::min(m->pipeline.threads, std::max(1, JobsToRun(0) / jobs));
+  if (m->settings.contains("pipeline")) {
+    m->settings["pipeline"]["threads"] = m->pipeline.threads;
+    info->settings["pipeline"]["threads"] = m->pipeline.threads;
+  }
 }
 
 // The prepared-scan cache of this run's pairs: scans that are a target in none of them are
@@ -217,7 +229,7 @@ std::vector<std::string> ParseBenchmarks(const std::string& text) {
 }
 
 int RunMatch(const MatchOptions& o) {
-  const Method method = ResolveMethod(o.common);
+  Method method = ResolveMethod(o.common);
   DatasetOptions dataset_options;
   dataset_options.depth_scale = o.depth_scale;
   const auto dataset = OpenDataset(o.data, dataset_options);
@@ -264,6 +276,7 @@ int RunMatch(const MatchOptions& o) {
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
+  ShareProcessors(o.common, mine.size(), &method, &info);
 
   // The method first: a bad config or missing model is reported before minutes of fusion.
   const MethodFactory factory =
@@ -298,7 +311,7 @@ struct FramePairOptions {
 };
 
 int RunFramePairs(const FramePairOptions& o) {
-  const Method method = ResolveMethod(o.common);
+  Method method = ResolveMethod(o.common);
   DatasetOptions dataset_options;
   dataset_options.depth_scale = o.depth_scale;
   const auto dataset = OpenDataset(o.data, dataset_options);
@@ -332,6 +345,7 @@ int RunFramePairs(const FramePairOptions& o) {
   info.shard = o.common.shard;
   info.command = CommandLine();
   const std::vector<PairTask> mine = ApplyShard(info.tasks, ParseShard(o.common.shard));
+  ShareProcessors(o.common, mine.size(), &method, &info);
   const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
                                                   method.features, CacheFor(o.common, mine));
   const OutDirLock lock = PrepareOutDir(o.common.out, info);

@@ -11,7 +11,7 @@
 #
 #   bash scripts/bench-speed.sh eval [LIMIT=20] [LIST ...]   (list names; default: every non-cross list)
 #     `zeroreg eval pairs --limit LIMIT` over each sequence list as a user runs it (default
-#     --jobs: one per hardware thread), then with --jobs 1, with --jobs 1 and without the
+#     --jobs: one per processor), then with --jobs 1, with --jobs 1 and without the
 #     prepared-scan cache (--prepared-cache 0: every pair prepares both scans, as registering them
 #     one by one in one process does), and the same LIMIT pairs registered one by one as their own
 #     processes (`zeroreg register` per pair, as a shell loop would): total wall time, CPU time

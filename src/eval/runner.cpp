@@ -157,6 +157,28 @@ PairRecord ErrorRecord(const PairTask& task, const std::string& method, const st
   return r;
 }
 
+// Several jobs append in finishing order, and a retried error or a run resumed after a kill adds
+// its records at the end; the finished file is put in task order, so that it does not depend on
+// the job count or on the run's history. Records of other tasks (an earlier run's larger
+// --limit) keep their order after these; a superseded error record stays before its retry.
+void RewriteInTaskOrder(const std::vector<PairTask>& tasks, const std::string& jsonl_path,
+                        std::vector<PairRecord>* records) {
+  std::map<std::string, size_t> task_index;
+  for (size_t k = 0; k < tasks.size(); ++k) task_index.emplace(tasks[k].Key(), k);
+  std::vector<std::pair<size_t, size_t>> order;  // (task index, line), sorted = the new order
+  for (size_t line = 0; line < records->size(); ++line) {
+    const auto it = task_index.find((*records)[line].key);
+    order.emplace_back(it == task_index.end() ? tasks.size() : it->second, line);
+  }
+  if (std::is_sorted(order.begin(), order.end())) return;
+  std::sort(order.begin(), order.end());
+  std::vector<PairRecord> sorted;
+  sorted.reserve(records->size());
+  for (const auto& [task, line] : order) sorted.push_back(std::move((*records)[line]));
+  *records = std::move(sorted);
+  WritePairsJsonl(jsonl_path, *records);
+}
+
 }  // namespace
 
 std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::string& method,
@@ -234,21 +256,7 @@ std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::
     bar.Finish();
     if (!out) throw MakeInputError(jsonl_path, "failed writing the pair results file");
     out.close();
-    // Several jobs appended in finishing order; the finished file is in task order, so that it
-    // does not depend on the job count. Records of other tasks (an earlier run's larger --limit)
-    // keep their order after these; a superseded error record stays before its retry.
-    if (jobs > 1) {
-      std::map<std::string, size_t> task_index;
-      for (size_t k = 0; k < tasks.size(); ++k) task_index.emplace(tasks[k].Key(), k);
-      const auto index_of = [&](const PairRecord& r) {
-        const auto it = task_index.find(r.key);
-        return it == task_index.end() ? tasks.size() : it->second;
-      };
-      std::stable_sort(
-          existing.begin(), existing.end(),
-          [&](const PairRecord& a, const PairRecord& b) { return index_of(a) < index_of(b); });
-      WritePairsJsonl(jsonl_path, existing);
-    }
+    RewriteInTaskOrder(tasks, jsonl_path, &existing);
   }
 
   // Latest record per key, in task order.

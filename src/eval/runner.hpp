@@ -5,7 +5,8 @@
 // there. With --jobs N, N threads each own one method instance (a Pipeline is not shared) and
 // take pairs from a common queue; every pair's result depends on its inputs and seed only, so the
 // records are those of --jobs 1. While several jobs run, pairs.jsonl grows in finishing order; when
-// they are done it is rewritten (atomically) in task order, as summaries and est.log are.
+// they are done it is rewritten (atomically) in task order, as summaries and est.log are, if it is
+// not in that order already (also after a retried error or a resumed run).
 #pragma once
 
 #include <chrono>

@@ -1,9 +1,11 @@
 #include "io/text_parsing.hpp"
 
+#include <fcntl.h>
 #include <unistd.h>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -44,24 +46,40 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
   // Same folder, so the rename stays on one file system; the pid keeps two writers apart.
   const fs::path temporary =
       target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(getpid()));
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out)
-      throw MakeInputError(path, "cannot be written (cannot create " + temporary.string() + ")");
-    out << text;
-    out.flush();
-    if (!out) {
-      out.close();
-      std::error_code ec;
-      fs::remove(temporary, ec);
-      throw MakeInputError(path, "cannot be written (disk full?)");
+  const auto fail = [&](const std::string& why) {
+    std::error_code ec;
+    fs::remove(temporary, ec);
+    return MakeInputError(path, "cannot be written (" + why + ")");
+  };
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw fail("cannot create " + temporary.string() + ": " + std::strerror(errno));
+  size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = errno;
+      ::close(fd);
+      throw fail(std::strerror(error));
     }
+    written += static_cast<size_t>(n);
   }
+  // The data reaches the disk before the rename makes it the file: after a crash or power loss
+  // the file is the old one or the new one, never an empty one (ext4 and XFS may otherwise commit
+  // the rename first).
+  const bool synced = ::fsync(fd) == 0;
+  const int sync_error = errno;
+  if (::close(fd) != 0) throw fail(std::strerror(errno));
+  if (!synced) throw fail(std::strerror(sync_error));
   std::error_code ec;
   fs::rename(temporary, target, ec);
-  if (ec) {
-    fs::remove(temporary, ec);
-    throw MakeInputError(path, "cannot be written (" + ec.message() + ")");
+  if (ec) throw fail(ec.message());
+  // And the rename itself (the folder's entry) is on the disk when this returns.
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  const int folder_fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (folder_fd >= 0) {
+    ::fsync(folder_fd);  // best effort: some file systems refuse fsync on a folder
+    ::close(folder_fd);
   }
 }
 

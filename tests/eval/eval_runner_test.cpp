@@ -51,7 +51,7 @@ class FakeMethod : public PairMethod {
     ++*calls_;
     const int s = std::stoi(source.name), t = std::stoi(target.name);
     // The first pair is slow, so that with two jobs it finishes after the second one.
-    if (t == 0) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (t == 0) std::this_thread::sleep_for(std::chrono::milliseconds(30));
     MethodOutput o;
     const Transform gt = target.T_world_scan_gt->inverse() * *source.T_world_scan_gt;
     o.T_target_source = gt * Pose(0.37 * ((s + t) % 11), 0.013 * (s % 7));
@@ -134,12 +134,16 @@ TEST_F(EvalRunner, ResumeSkipsFinishedPairsAndRetriesErrors) {
   EXPECT_NE(records[4].error.find("cannot be loaded"), std::string::npos);
   EXPECT_EQ(records[5].key, tasks[5].Key());  // task order
 
-  // The error is retried on the next restart (still failing), nothing else runs again.
+  // The error is retried on the next restart (still failing), nothing else runs again; the
+  // file reads in task order, the retry's record in place of the error it supersedes.
   Run(tasks, "r", 1, &stats);
   EXPECT_EQ(calls_, 5);
   EXPECT_EQ(stats.ran, 1);
   EXPECT_EQ(stats.reused, 5);
   EXPECT_EQ(DoneKeys((dir_ / "r" / "pairs.jsonl").string()).size(), 5u);
+  const std::vector<PairRecord> lines = ReadPairsJsonl((dir_ / "r" / "pairs.jsonl").string());
+  ASSERT_EQ(lines.size(), 6u);
+  for (size_t k = 0; k < 6; ++k) EXPECT_EQ(lines[k].key, tasks[k].Key()) << k;
 }
 
 TEST_F(EvalRunner, TruncatedLastLineOfAKilledRunIsDroppedAndRerun) {
@@ -250,6 +254,17 @@ TEST_F(EvalRunner, ResultsFolderRefusesAnotherMethodOrConfig) {
   const std::string out2 = (dir_ / "r2").string();
   static_cast<void>(PrepareOutDir(out2, Info(Tasks(2))));  // lock released at once
   EXPECT_THROW(MergeRuns({out, out2}, (dir_ / "m").string()), InputError);
+
+  // The pipeline's thread count decides no result: a folder resumes, and shards merge, under
+  // another one.
+  RunInfo threads = Info(tasks);
+  threads.settings["pipeline"]["threads"] = 1;
+  static_cast<void>(PrepareOutDir(out, threads));  // resumes
+  const std::string out3 = (dir_ / "r3").string();
+  threads.settings["pipeline"]["threads"] = 2;
+  threads.shard = "1/2";
+  static_cast<void>(PrepareOutDir(out3, threads));
+  EXPECT_NO_THROW(MergeRuns({out, out3}, (dir_ / "m3").string()));
 }
 
 TEST_F(EvalRunner, RunJsonNamesTheZeroregVersion) {
