@@ -23,6 +23,7 @@ void AddConfigOptions(CLI::App& app, ConfigOptions* options);
 // Throws InputError naming the option (--config file, --seed, --assets, --set) that is wrong.
 PipelineConfig BuildConfig(const ConfigOptions& options);
 // Whether the --config file or a --set gives the top-level config key `key` (e.g. "threads").
+// Call it on options BuildConfig accepted: it reads the file again and does not check it.
 bool GivesTopLevelKey(const ConfigOptions& options, const std::string& key);
 
 // Validators with messages in the option's own terms ("--gap: is 0; expected an integer >= 1"),
