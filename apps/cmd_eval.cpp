@@ -175,13 +175,27 @@ PreparedCacheOptions CacheFor(const CommonOptions& o, const std::vector<PairTask
   return cache;
 }
 
+// "zeroreg, 2 jobs x 1 thread": the progress bar says how the run uses the machine, since --jobs
+// and the threads per job are chosen from the processors unless given.
+std::string ProgressLabel(const std::string& method, int jobs, const json& settings) {
+  const auto count = [](int n, const char* what) {
+    return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+  };
+  std::string label = method + ", " + count(std::max(1, jobs), "job");
+  if (settings.contains("pipeline") && settings["pipeline"].contains("threads")) {
+    label += " x " + count(settings["pipeline"]["threads"].get<int>(), "thread");
+  }
+  return label;
+}
+
 // Runs the selected pairs of this shard and writes the summary; shared by both protocols.
 int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vector<PairTask>& mine,
                     const MethodFactory& factory, const ScanLoader& loader) {
   RunOptions run;
   run.jobs = JobsToRun(o.jobs);
   run.progress = !o.no_progress;
-  run.label = o.method;
+  run.label = ProgressLabel(o.method, std::min<int>(run.jobs, static_cast<int>(mine.size())),
+                            info.settings);
   RunStats stats;
   const std::string jsonl = (fs::path(o.out) / "pairs.jsonl").string();
   const std::vector<PairRecord> records =

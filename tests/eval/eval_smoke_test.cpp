@@ -170,6 +170,15 @@ TEST_F(EvalSmoke, DefaultJobsGiveTheRecordsOfOneJob) {
   EXPECT_NE(resumed.output.find("0 pairs evaluated now, 4 reused"), std::string::npos)
       << resumed.output;
   EXPECT_EQ(threads("auto"), 3);
+
+  // The progress says how the run uses the machine.
+  const auto shown =
+      RunCli("eval pairs --data '" + RedkitchenDir() +
+             "' --gap 20 --limit 4 --features sift --jobs 3 --out '" + Out("progress") + "'");
+  ASSERT_EQ(shown.exit_code, 0) << shown.output;
+  const std::string label =
+      "zeroreg, 3 jobs x " + std::to_string(shared(3)) + (shared(3) == 1 ? " thread" : " threads");
+  EXPECT_NE(shown.output.find(label), std::string::npos) << shown.output;
 }
 
 TEST_F(EvalSmoke, PairListRunWritesEstLogAndScoresAgainstGtLog) {
