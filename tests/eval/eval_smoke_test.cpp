@@ -40,6 +40,12 @@ class EvalSmoke : public ::testing::Test {
     return json::parse(in);
   }
   static std::string GtRoot() { return testing::SharedDir() + "/data/3dmatch-gt"; }
+  // `eval pairs` over the first `limit` redkitchen pairs (i, i + 20) with SIFT features (no
+  // model file, fast); the caller adds --out and options.
+  static std::string SiftGap20(int limit, const std::string& options = "--no-progress") {
+    return "eval pairs --data '" + RedkitchenDir() + "' --gap 20 --limit " + std::to_string(limit) +
+           " --features sift " + options;
+  }
   // Fragments are fused with a 4 cm TSDF voxel (a few CPU-seconds each instead of ~40 s at the
   // default 1 cm): this test checks the runner and the metrics, not the fusion's detail.
   std::string Cache() const { return (dir_ / "cache").string(); }
@@ -55,8 +61,7 @@ Transform Pose(int frame) {
 
 TEST_F(EvalSmoke, FramePairsMetricsRecomputeFromTheJsonLines) {
   const std::string out = Out("pairs");
-  const auto run = RunCli("eval pairs --data '" + RedkitchenDir() +
-                          "' --gap 20 --limit 3 --features sift --no-progress --out '" + out + "'");
+  const auto run = RunCli(SiftGap20(3) + " --out '" + out + "'");
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const std::vector<PairRecord> records = ReadPairsJsonl(out + "/pairs.jsonl");
   ASSERT_EQ(records.size(), 3u);
@@ -93,23 +98,18 @@ TEST_F(EvalSmoke, FramePairsMetricsRecomputeFromTheJsonLines) {
   EXPECT_NE(run.output.find("| frames-g20 | 3 | 3 |"), std::string::npos) << run.output;
 
   // Restarting the same command evaluates nothing again.
-  const auto again =
-      RunCli("eval pairs --data '" + RedkitchenDir() +
-             "' --gap 20 --limit 3 --features sift --no-progress --out '" + out + "'");
+  const auto again = RunCli(SiftGap20(3) + " --out '" + out + "'");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   EXPECT_NE(again.output.find("0 pairs evaluated now, 3 reused"), std::string::npos)
       << again.output;
   // ... but another config in the same folder is refused.
-  const auto other =
-      RunCli("eval pairs --data '" + RedkitchenDir() +
-             "' --gap 20 --limit 3 --features sift --seed 7 --no-progress --out '" + out + "'");
+  const auto other = RunCli(SiftGap20(3, "--seed 7 --no-progress") + " --out '" + out + "'");
   EXPECT_EQ(other.exit_code, 2) << other.output;
   EXPECT_NE(other.output.find("another config"), std::string::npos) << other.output;
 }
 
 TEST_F(EvalSmoke, ShardsMergedThroughTheCliEqualTheSingleRun) {
-  const std::string common = "eval pairs --data '" + RedkitchenDir() +
-                             "' --gap 20 --limit 3 --features sift --no-progress";
+  const std::string common = SiftGap20(3);
   ASSERT_EQ(RunCli(common + " --out '" + Out("all") + "'").exit_code, 0);
   ASSERT_EQ(RunCli(common + " --shard 0/2 --out '" + Out("s0") + "'").exit_code, 0);
   ASSERT_EQ(RunCli(common + " --shard 1/2 --out '" + Out("s1") + "'").exit_code, 0);
@@ -131,8 +131,7 @@ TEST_F(EvalSmoke, ShardsMergedThroughTheCliEqualTheSingleRun) {
 // processors; the records, and the file's line order, are those of --jobs 1 whatever the machine's
 // core count (--jobs 3 runs several jobs even on one processor).
 TEST_F(EvalSmoke, DefaultJobsGiveTheRecordsOfOneJob) {
-  const std::string common = "eval pairs --data '" + RedkitchenDir() +
-                             "' --gap 20 --limit 4 --features sift --no-progress";
+  const std::string common = SiftGap20(4);
   ASSERT_EQ(RunCli(common + " --jobs 1 --out '" + Out("one") + "'").exit_code, 0);
   ASSERT_EQ(RunCli(common + " --out '" + Out("auto") + "'").exit_code, 0);
   ASSERT_EQ(RunCli(common + " --jobs 3 --out '" + Out("three") + "'").exit_code, 0);
@@ -172,9 +171,7 @@ TEST_F(EvalSmoke, DefaultJobsGiveTheRecordsOfOneJob) {
   EXPECT_EQ(threads("auto"), 3);
 
   // The progress says how the run uses the machine.
-  const auto shown =
-      RunCli("eval pairs --data '" + RedkitchenDir() +
-             "' --gap 20 --limit 4 --features sift --jobs 3 --out '" + Out("progress") + "'");
+  const auto shown = RunCli(SiftGap20(4, "--jobs 3") + " --out '" + Out("progress") + "'");
   ASSERT_EQ(shown.exit_code, 0) << shown.output;
   const std::string label =
       "zeroreg, 3 jobs x " + std::to_string(shared(3)) + (shared(3) == 1 ? " thread" : " threads");
