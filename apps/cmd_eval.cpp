@@ -152,6 +152,12 @@ Method ResolveMethod(const CommonOptions& o) {
   return m;
 }
 
+// The jobs that will run over `pairs` pairs: --jobs (JobsToRun), at most one per pair.
+int JobsForPairs(const CommonOptions& o, size_t pairs) {
+  const size_t jobs = std::min(static_cast<size_t>(JobsToRun(o.jobs)), pairs);
+  return static_cast<int>(std::max<size_t>(jobs, 1));
+}
+
 // Unless the config gives `threads`, the jobs share the processors: each job's pipeline gets
 // processors / jobs threads, at least 1 and at most the config's, counting only the jobs that will
 // run (at most one per pair). With as many jobs as processors a pipeline's second thread only
@@ -159,8 +165,8 @@ Method ResolveMethod(const CommonOptions& o) {
 // docs/SPEED.md). No result depends on it; run.json records the value used.
 void ShareProcessors(const CommonOptions& o, size_t pairs, Method* m, RunInfo* info) {
   if (GivesTopLevelKey(o.config, "threads")) return;
-  const int jobs = std::min<int>(JobsToRun(o.jobs), static_cast<int>(std::max<size_t>(pairs, 1)));
-  m->pipeline.threads = std::min(m->pipeline.threads, std::max(1, JobsToRun(0) / jobs));
+  m->pipeline.threads =
+      std::min(m->pipeline.threads, std::max(1, JobsToRun(0) / JobsForPairs(o, pairs)));
   if (m->settings.contains("pipeline")) {
     m->settings["pipeline"]["threads"] = m->pipeline.threads;
     info->settings["pipeline"]["threads"] = m->pipeline.threads;
@@ -181,7 +187,7 @@ std::string ProgressLabel(const std::string& method, int jobs, const json& setti
   const auto count = [](int n, const char* what) {
     return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
   };
-  std::string label = method + ", " + count(std::max(1, jobs), "job");
+  std::string label = method + ", " + count(jobs, "job");
   if (settings.contains("pipeline") && settings["pipeline"].contains("threads")) {
     label += " x " + count(settings["pipeline"]["threads"].get<int>(), "thread");
   }
@@ -194,8 +200,7 @@ int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vect
   RunOptions run;
   run.jobs = JobsToRun(o.jobs);
   run.progress = !o.no_progress;
-  run.label = ProgressLabel(o.method, std::min<int>(run.jobs, static_cast<int>(mine.size())),
-                            info.settings);
+  run.label = ProgressLabel(o.method, JobsForPairs(o, mine.size()), info.settings);
   RunStats stats;
   const std::string jsonl = (fs::path(o.out) / "pairs.jsonl").string();
   const std::vector<PairRecord> records =

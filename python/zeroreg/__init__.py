@@ -130,7 +130,9 @@ def _native(scan: Any, where: str) -> Union[str, dict, PreparedScan]:
     return scan
 
 
-def load_scan(spec: Union[str, bytes, "os.PathLike[str]"], depth_scale: Optional[float] = None) -> Scan:
+def load_scan(
+    spec: Union[str, bytes, "os.PathLike[str]"], depth_scale: Optional[float] = None
+) -> Scan:
     """Loads a scan from disk like the CLI does and returns it as arrays.
 
     spec: "DIR@N" (frame N of a 3DMatch / TUM / ScanNet folder), a scan.json or its folder, or a
