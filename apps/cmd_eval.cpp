@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -21,6 +22,7 @@
 #include "eval/fragments.hpp"
 #include "eval/methods.hpp"
 #include "eval/pair_list.hpp"
+#include "eval/prior.hpp"
 #include "eval/protocols.hpp"
 #include "eval/runner.hpp"
 #include "eval/session.hpp"
@@ -60,6 +62,9 @@ struct CommonOptions {
   bool no_progress = false;
   PreparedCacheOptions cache;  // zeroreg / image: prepared scans kept across pairs
   ConfigOptions config;
+  // --prior-error-deg / --prior-error-m (either one turns the prior on) and its tolerance.
+  PriorError prior;
+  bool prior_error_given = false, prior_tolerance_given = false;
 };
 
 void AddCommonOptions(CLI::App& app, CommonOptions* o) {
@@ -100,6 +105,40 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
          [o](double mib) { o->cache.max_bytes = static_cast<size_t>(mib * 1024 * 1024); },
          "zeroreg/image: at most this much memory held by the prepared scans [default 512]")
       ->check(InRange(1, 1 << 20, /*integer=*/false));
+  app.add_option_function<double>(
+         "--prior-error-deg",
+         [o](double deg) {
+           o->prior.rotation_deg = deg;
+           o->prior_error_given = true;
+         },
+         "zeroreg/image: register every pair with a motion prior (as odometry would give) turned "
+         "this many degrees from the ground truth about a random axis, drawn per pair from "
+         "--seed (docs/EVAL.md)")
+      ->check(InRange(0.0, 180.0, /*integer=*/false));
+  app.add_option_function<double>(
+         "--prior-error-m",
+         [o](double m) {
+           o->prior.translation_m = m;
+           o->prior_error_given = true;
+         },
+         "zeroreg/image: ... and moved this many metres from it in a random direction")
+      ->check(AtLeast(0, /*integer=*/false));
+  app.add_option_function<double>(
+         "--prior-max-rotation-deg",
+         [o](double deg) {
+           o->prior.max_rotation_deg = deg;
+           o->prior_tolerance_given = true;
+         },
+         "how far (deg) a valid pose may turn from the prior, as register's [default 15]")
+      ->check(CLI::PositiveNumber);
+  app.add_option_function<double>(
+         "--prior-max-translation-m",
+         [o](double m) {
+           o->prior.max_translation_m = m;
+           o->prior_tolerance_given = true;
+         },
+         "how far (m) a valid pose may move from the prior, as register's [default 0.3]")
+      ->check(CLI::PositiveNumber);
   AddConfigOptions(app, &o->config);
 }
 
@@ -131,8 +170,9 @@ std::vector<PairTask> Select(std::vector<PairTask> tasks, const CommonOptions& o
 struct Method {
   PipelineConfig pipeline;
   FpfhConfig fpfh;
-  FeatureBaselineConfig features;  // sift / orb
-  json settings;                   // the method part of run.json's settings
+  FeatureBaselineConfig features;   // sift / orb
+  std::optional<PriorError> prior;  // --prior-error-deg / -m
+  json settings;                    // the method part of run.json's settings
 };
 
 Method ResolveMethod(const CommonOptions& o) {
@@ -148,6 +188,22 @@ Method ResolveMethod(const CommonOptions& o) {
     m.settings = json{{"features", FeatureBaselineConfigToJson(m.features)}};
   } else {
     m.settings = json{{"pipeline", ConfigToJson(m.pipeline)}};
+  }
+  if (o.prior_tolerance_given && !o.prior_error_given) {
+    throw MakeInputError("--prior-max-rotation-deg / --prior-max-translation-m",
+                         "a tolerance needs a prior; give --prior-error-deg and/or "
+                         "--prior-error-m");
+  }
+  if (o.prior_error_given) {
+    if (!TakesMotionPrior(o.method)) {
+      throw MakeInputError("--prior-error-deg / --prior-error-m",
+                           "the " + o.method +
+                               " baseline takes no motion prior; expected --method zeroreg or "
+                               "image");
+    }
+    m.prior = o.prior;
+    // Every result depends on it: a folder is resumed or merged only under the same prior.
+    m.settings["prior"] = PriorErrorToJson(o.prior);
   }
   return m;
 }
@@ -195,10 +251,13 @@ std::string ProgressLabel(const std::string& method, int jobs, const json& setti
 }
 
 // Runs the selected pairs of this shard and writes the summary; shared by both protocols.
-int RunAndSummarize(const CommonOptions& o, const RunInfo& info, const std::vector<PairTask>& mine,
-                    const MethodFactory& factory, const ScanLoader& loader) {
+int RunAndSummarize(const CommonOptions& o, const Method& method, const RunInfo& info,
+                    const std::vector<PairTask>& mine, const MethodFactory& factory,
+                    const ScanLoader& loader) {
   RunOptions run;
   run.jobs = JobsToRun(o.jobs);
+  run.prior = method.prior;
+  run.seed = method.pipeline.seed;
   run.progress = !o.no_progress;
   run.label = ProgressLabel(o.method, JobsForPairs(o, mine.size()), info.settings);
   RunStats stats;
@@ -319,7 +378,7 @@ int RunMatch(const MatchOptions& o) {
   std::fprintf(stderr, "fragments: %zu needed, %d fused now, %zu reused from %s\n", needed.size(),
                built, needed.size() - built, o.cache.c_str());
   if (o.fuse_only) return kExitOk;
-  return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
+  return RunAndSummarize(o.common, method, info, mine, factory, ScanLoader(dataset_options));
 }
 
 struct FramePairOptions {
@@ -368,7 +427,7 @@ int RunFramePairs(const FramePairOptions& o) {
   const MethodFactory factory = MakeMethodFactory(o.common.method, method.pipeline, method.fpfh,
                                                   method.features, CacheFor(o.common, mine));
   const OutDirLock lock = PrepareOutDir(o.common.out, info);
-  return RunAndSummarize(o.common, info, mine, factory, ScanLoader(dataset_options));
+  return RunAndSummarize(o.common, method, info, mine, factory, ScanLoader(dataset_options));
 }
 
 struct MergeOptions {

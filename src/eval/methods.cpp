@@ -44,13 +44,13 @@ class ZeroregMethod : public PairMethod {
       : shared_(std::move(shared)), require_image_path_(require_image_path) {}
 
   MethodOutput Run(const Scan& source, const Scan& target) override {
-    return Output(shared_->pipeline.Register(source, target), source.views.size(),
-                  target.views.size());
+    return Run(source, target, std::nullopt);
   }
 
   MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
-                       const ScanLoadFunction& load) override {
-    if (!shared_->cached) return Run(load(source_ref), load(target_ref));
+                       const ScanLoadFunction& load,
+                       const std::optional<MotionPrior>& prior) override {
+    if (!shared_->cached) return Run(load(source_ref), load(target_ref), prior);
     const auto prepared = [&](const std::string& ref) {
       return shared_->prepared.Get(
           ref, [&] { return shared_->pipeline.Prepare(load(ref), shared_->MayBeTarget(ref)); });
@@ -73,11 +73,17 @@ class ZeroregMethod : public PairMethod {
       source = prepared(source_ref);
       target = prepared(target_ref);
     }
-    return Output(shared_->pipeline.Register(source, target), source.scan().views.size(),
+    return Output(shared_->pipeline.Register(source, target, prior), source.scan().views.size(),
                   target.scan().views.size());
   }
 
  private:
+  MethodOutput Run(const Scan& source, const Scan& target,
+                   const std::optional<MotionPrior>& prior) {
+    return Output(shared_->pipeline.Register(source, target, prior), source.views.size(),
+                  target.views.size());
+  }
+
   MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target) const {
     if (require_image_path_ && r.path != "image") {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
@@ -383,6 +389,10 @@ void CheckMethodName(const std::string& method) {
     throw MakeInputError("--method " + method,
                          "unknown method; expected zeroreg, image, fpfh, sift or orb");
   }
+}
+
+bool TakesMotionPrior(const std::string& method) {
+  return method == "zeroreg" || method == "image";
 }
 
 std::set<std::string> TargetRefs(const std::vector<PairTask>& tasks) {

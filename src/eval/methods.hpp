@@ -17,12 +17,14 @@
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include "eval/records.hpp"
 #include "zeroreg/config.hpp"
+#include "zeroreg/register.hpp"
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
@@ -33,10 +35,13 @@ class PairMethod {
   virtual MethodOutput Run(const Scan& source, const Scan& target) = 0;
   // The runner's call: the scans by their refs in the list (one ref = one scan), loaded through
   // `load` when the method needs them. The zeroreg method keeps prepared scans by ref (a frame in
-  // several pairs is read and perceived once); the default loads both and calls Run.
+  // several pairs is read and perceived once); the default loads both and calls Run. `prior`
+  // (eval --prior-error-deg/-m) is for the methods that take one (TakesMotionPrior); the others
+  // are never given one.
   using ScanLoadFunction = std::function<Scan(const std::string& ref)>;
   virtual MethodOutput RunRefs(const std::string& source_ref, const std::string& target_ref,
-                               const ScanLoadFunction& load) {
+                               const ScanLoadFunction& load,
+                               const std::optional<MotionPrior>& /*prior*/) {
     return Run(load(source_ref), load(target_ref));
   }
 };
@@ -115,6 +120,10 @@ PipelineConfig MethodPipelineConfig(const std::string& method, PipelineConfig co
 
 // Known method names: "zeroreg", "image", "fpfh", "sift", "orb". Throws InputError otherwise.
 void CheckMethodName(const std::string& method);
+
+// Whether `method` registers with a motion prior (zeroreg, image: the Pipeline's MotionPrior); the
+// baselines have none.
+bool TakesMotionPrior(const std::string& method);
 
 using MethodFactory = std::function<std::unique_ptr<PairMethod>()>;
 // zeroreg / image run a Pipeline with MethodPipelineConfig(method, config); fpfh uses `fpfh`;

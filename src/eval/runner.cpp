@@ -114,7 +114,7 @@ std::vector<std::string> DoneKeys(const std::string& jsonl_path) {
 namespace {
 
 PairRecord EvaluateOne(const PairTask& task, const std::string& method, PairMethod& instance,
-                       const ScanLoader& loader) {
+                       const ScanLoader& loader, const RunOptions& options) {
   // Scans are read when the method asks for them (a method with prepared scans does not ask again
   // for a scan it has); the record's time is the method's, without reading.
   double load_ms = 0;
@@ -142,8 +142,10 @@ PairRecord EvaluateOne(const PairTask& task, const std::string& method, PairMeth
     loaded.emplace(task.target_ref, std::move(target));
     load_ms = 0;
   }
+  std::optional<MotionPrior> prior;
+  if (options.prior) prior = PriorOffTheTruth(T_gt, *options.prior, options.seed, task.Key());
   const auto start = std::chrono::steady_clock::now();
-  const MethodOutput output = instance.RunRefs(task.source_ref, task.target_ref, load);
+  const MethodOutput output = instance.RunRefs(task.source_ref, task.target_ref, load, prior);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() -
       load_ms;
@@ -231,7 +233,7 @@ std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::
           record = ErrorRecord(task, method, "method setup failed: " + setup_error);
         } else {
           try {
-            record = EvaluateOne(task, method, *instance, loader);
+            record = EvaluateOne(task, method, *instance, loader, options);
           } catch (const std::exception& e) {
             record = ErrorRecord(task, method, e.what());
           }

@@ -14,10 +14,12 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "eval/methods.hpp"
+#include "eval/prior.hpp"
 #include "eval/records.hpp"
 #include "zeroreg/io.hpp"
 
@@ -62,6 +64,10 @@ struct RunOptions {
   int jobs = 1;
   bool progress = true;
   std::string label = "pairs";
+  // Register every pair with a motion prior this far from its ground truth (PriorOffTheTruth,
+  // drawn with `seed` and the pair's key); only for methods that take one (TakesMotionPrior).
+  std::optional<PriorError> prior;
+  std::uint64_t seed = 0;
 };
 
 struct RunStats {

@@ -122,7 +122,7 @@ TEST(ZeroregMethodWithPreparedScans, SequenceGivesTheRecordsOfPairsRegisteredOne
   const std::string dir = testing::RedkitchenDir() + "@";
   for (int i : {0, 20}) {
     const std::string target = dir + std::to_string(i), source = dir + std::to_string(i + 20);
-    const MethodOutput out = method->RunRefs(source, target, load);
+    const MethodOutput out = method->RunRefs(source, target, load, std::nullopt);
     const RegistrationResult alone = reference.Register(LoadScan(source), LoadScan(target));
     EXPECT_TRUE(alone.valid) << alone.reason;
     EXPECT_EQ(out.T_target_source, alone.T_target_source) << source << " -> " << target;
