@@ -105,40 +105,32 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
          [o](double mib) { o->cache.max_bytes = static_cast<size_t>(mib * 1024 * 1024); },
          "zeroreg/image: at most this much memory held by the prepared scans [default 512]")
       ->check(InRange(1, 1 << 20, /*integer=*/false));
-  app.add_option_function<double>(
-         "--prior-error-deg",
-         [o](double deg) {
-           o->prior.rotation_deg = deg;
-           o->prior_error_given = true;
-         },
-         "zeroreg/image: register every pair with a motion prior (as odometry would give) turned "
-         "this many degrees from the ground truth about a random axis, drawn per pair from "
-         "--seed (docs/EVAL.md)")
-      ->check(InRange(0.0, 180.0, /*integer=*/false));
-  app.add_option_function<double>(
-         "--prior-error-m",
-         [o](double m) {
-           o->prior.translation_m = m;
-           o->prior_error_given = true;
-         },
-         "zeroreg/image: ... and moved this many metres from it in a random direction")
-      ->check(AtLeast(0, /*integer=*/false));
-  app.add_option_function<double>(
-         "--prior-max-rotation-deg",
-         [o](double deg) {
-           o->prior.max_rotation_deg = deg;
-           o->prior_tolerance_given = true;
-         },
-         "how far (deg) a valid pose may turn from the prior, as register's [default 15]")
-      ->check(CLI::PositiveNumber);
-  app.add_option_function<double>(
-         "--prior-max-translation-m",
-         [o](double m) {
-           o->prior.max_translation_m = m;
-           o->prior_tolerance_given = true;
-         },
-         "how far (m) a valid pose may move from the prior, as register's [default 0.3]")
-      ->check(CLI::PositiveNumber);
+  // Each sets one number of the prior and notes that it was given.
+  const auto prior_option = [&app](const char* name, double* value, bool* given,
+                                   const std::string& help, const CLI::Validator& check) {
+    app.add_option_function<double>(
+           name,
+           [value, given](double v) {
+             *value = v;
+             *given = true;
+           },
+           help)
+        ->check(check);
+  };
+  prior_option("--prior-error-deg", &o->prior.rotation_deg, &o->prior_error_given,
+               "zeroreg/image: register every pair with a motion prior (as odometry would give) "
+               "turned this many degrees from the ground truth about a random axis, drawn per pair "
+               "from --seed (docs/EVAL.md)",
+               InRange(0.0, 180.0, /*integer=*/false));
+  prior_option("--prior-error-m", &o->prior.translation_m, &o->prior_error_given,
+               "zeroreg/image: ... and moved this many metres from it in a random direction",
+               AtLeast(0, /*integer=*/false));
+  prior_option("--prior-max-rotation-deg", &o->prior.max_rotation_deg, &o->prior_tolerance_given,
+               "how far (deg) a valid pose may turn from the prior, as register's [default 15]",
+               CLI::PositiveNumber);
+  prior_option("--prior-max-translation-m", &o->prior.max_translation_m, &o->prior_tolerance_given,
+               "how far (m) a valid pose may move from the prior, as register's [default 0.3]",
+               CLI::PositiveNumber);
   AddConfigOptions(app, &o->config);
 }
 
