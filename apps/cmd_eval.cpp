@@ -127,10 +127,10 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
                AtLeast(0, /*integer=*/false));
   prior_option("--prior-max-rotation-deg", &o->prior.max_rotation_deg, &o->prior_tolerance_given,
                "how far (deg) a valid pose may turn from the prior, as register's [default 15]",
-               CLI::PositiveNumber);
+               GreaterThan(0));
   prior_option("--prior-max-translation-m", &o->prior.max_translation_m, &o->prior_tolerance_given,
                "how far (m) a valid pose may move from the prior, as register's [default 0.3]",
-               CLI::PositiveNumber);
+               GreaterThan(0));
   AddConfigOptions(app, &o->config);
 }
 
@@ -192,6 +192,15 @@ Method ResolveMethod(const CommonOptions& o) {
                            "the " + o.method +
                                " baseline takes no motion prior; expected --method zeroreg or "
                                "image");
+    }
+    if (o.prior.rotation_deg > o.prior.max_rotation_deg ||
+        o.prior.translation_m > o.prior.max_translation_m) {
+      // Allowed (what a bad odometry does is worth measuring), but say what it means.
+      std::fprintf(stderr,
+                   "warning: the prior's error (%g deg, %g m) exceeds its tolerance (%g deg, %g "
+                   "m): the ground truth itself lies outside it, so no right pose can be valid\n",
+                   o.prior.rotation_deg, o.prior.translation_m, o.prior.max_rotation_deg,
+                   o.prior.max_translation_m);
     }
     m.prior = o.prior;
     // Every result depends on it: a folder is resumed or merged only under the same prior.

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -28,7 +29,8 @@ CLI::Validator NumberValidator(const std::string& expected, bool integer,
         char* end = nullptr;
         errno = 0;
         const double x = std::strtod(text.c_str(), &end);
-        const bool number = !text.empty() && *end == '\0' && errno != ERANGE;
+        // strtod reads "inf" and "nan" too; no option here takes either.
+        const bool number = !text.empty() && *end == '\0' && errno != ERANGE && std::isfinite(x);
         if (!number || (integer && x != static_cast<double>(static_cast<long long>(x))) || !ok(x)) {
           return "is " + text + "; expected " + expected;
         }

@@ -74,18 +74,22 @@ class ZeroregMethod : public PairMethod {
       target = prepared(target_ref);
     }
     return Output(shared_->pipeline.Register(source, target, prior), source.scan().views.size(),
-                  target.scan().views.size());
+                  target.scan().views.size(), prior.has_value());
   }
 
  private:
   MethodOutput Run(const Scan& source, const Scan& target,
                    const std::optional<MotionPrior>& prior) {
     return Output(shared_->pipeline.Register(source, target, prior), source.views.size(),
-                  target.views.size());
+                  target.views.size(), prior.has_value());
   }
 
-  MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target) const {
-    if (require_image_path_ && r.path != "image") {
+  // `with_prior`: the pair was registered with a motion prior, whose own refinement (paths "prior"
+  // and "prior icp", tried when no source is valid within it) is part of any method given one.
+  MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target,
+                      bool with_prior) const {
+    const bool from_prior = with_prior && (r.path == "prior" || r.path == "prior icp");
+    if (require_image_path_ && r.path != "image" && !from_prior) {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
       throw std::logic_error("--method image: the pipeline used the '" + r.path +
                              "' path; update ImagePathOverrides() in src/eval/methods.cpp");

@@ -1,6 +1,7 @@
 #include "eval/prior.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <random>
 

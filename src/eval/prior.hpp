@@ -18,9 +18,9 @@ namespace zeroreg {
 struct PriorError {
   double rotation_deg = 0.0;   // the prior is turned this far from the truth (random axis)
   double translation_m = 0.0;  // and moved this far (random direction)
-  // MotionPrior's tolerance: how far a valid pose may be from the prior.
-  double max_rotation_deg = 15.0;
-  double max_translation_m = 0.30;
+  // MotionPrior's tolerance: how far a valid pose may be from the prior (its defaults).
+  double max_rotation_deg = MotionPrior().max_rotation_deg;
+  double max_translation_m = MotionPrior().max_translation_m;
 };
 nlohmann::json PriorErrorToJson(const PriorError& error);
 
@@ -29,8 +29,9 @@ nlohmann::json PriorErrorToJson(const PriorError& error);
 // pose_off_by): inv(T_gt) * prior turns by exactly rotation_deg and moves by exactly
 // translation_m. The axis and the direction are drawn uniformly on the sphere from a generator
 // seeded by `seed` and `pair_key`, so a pair gets the same prior in every run, with any --jobs or
-// --shard, and on any platform (std::mt19937_64 is fully specified; the doubles are made from its
-// bits here, not by a library distribution).
+// --shard. The draws are the same on any platform (std::mt19937_64 is fully specified and the
+// doubles are made from its bits here, not by a library distribution); the prior itself to the
+// last bit of the C library's sin and cos.
 MotionPrior PriorOffTheTruth(const Transform& T_gt, const PriorError& error, std::uint64_t seed,
                              const std::string& pair_key);
 

@@ -319,21 +319,36 @@ TEST_F(EvalSmoke, MotionPriorFromTheTruthLeavesNoWrongPoseValid) {
   EXPECT_DOUBLE_EQ(prior["translation_m"].get<double>(), 0.1);
   EXPECT_DOUBLE_EQ(prior["max_rotation_deg"].get<double>(), 15.0);
 
+  // The same records with two jobs and without the prepared-scan cache.
   ASSERT_EQ(RunCli(common + " --jobs 2 --out '" + Out("two") + "'").exit_code, 0);
-  const std::vector<PairRecord> two = ReadPairsJsonl(Out("two") + "/pairs.jsonl");
-  ASSERT_EQ(two.size(), one.size());
-  for (size_t k = 0; k < one.size(); ++k) {
-    PairRecord a = one[k], b = two[k];
-    a.time_ms = b.time_ms = 0;
-    EXPECT_EQ(PairRecordToJson(a), PairRecordToJson(b)) << "line " << k;
+  ASSERT_EQ(RunCli(common + " --prepared-cache 0 --out '" + Out("uncached") + "'").exit_code, 0);
+  for (const std::string name : {"two", "uncached"}) {
+    const std::vector<PairRecord> other = ReadPairsJsonl(Out(name) + "/pairs.jsonl");
+    ASSERT_EQ(other.size(), one.size()) << name;
+    for (size_t k = 0; k < one.size(); ++k) {
+      PairRecord a = one[k], b = other[k];
+      a.time_ms = b.time_ms = 0;
+      EXPECT_EQ(PairRecordToJson(a), PairRecordToJson(b)) << name << " line " << k;
+    }
   }
-  // Another prior is another run: the folder refuses it rather than mixing the two.
+  // The whole-image method takes the prior too; ICP from the prior ("prior icp", when no image
+  // pose is valid within it) is part of that, not a wrong path.
+  const auto image = RunCli(common + " --method image --out '" + Out("image") + "'");
+  ASSERT_EQ(image.exit_code, 0) << image.output;
+  for (const PairRecord& r : ReadPairsJsonl(Out("image") + "/pairs.jsonl")) {
+    EXPECT_EQ(r.error, "") << r.key;
+    const bool right = r.rotation_error_deg < 15 && r.translation_error_m < 0.3;
+    EXPECT_TRUE(right || !r.valid) << r.key << ": valid and " << r.rotation_error_deg << " deg off";
+  }
+  // Another prior is another run: the folder refuses it rather than mixing the two. An error
+  // beyond the tolerance is allowed, with a warning that no right pose can then be valid.
   const auto other = RunCli("eval pairs --data '" + testing::SharedDir() +
                             "/data/tum-fr3-cabinet' --gap 8 --step 1 " + "--pairs '" + pairs +
-                            "' --prior-error-deg 10 --no-progress --out '" + Out("one") + "'");
+                            "' --prior-error-deg 20 --no-progress --out '" + Out("one") + "'");
   EXPECT_EQ(other.exit_code, 2) << other.output;
   EXPECT_NE(other.output.find("another config or data settings"), std::string::npos)
       << other.output;
+  EXPECT_NE(other.output.find("exceeds its tolerance"), std::string::npos) << other.output;
 }
 
 TEST_F(EvalSmoke, BadArgumentsAreClearErrors) {
@@ -358,6 +373,14 @@ TEST_F(EvalSmoke, BadArgumentsAreClearErrors) {
                "a tolerance needs a prior");
   expect_error("eval pairs " + data + "--prior-error-m -0.1 --out '" + Out("x") + "'",
                "--prior-error-m");
+  expect_error("eval pairs " + data + "--prior-error-m inf --out '" + Out("x") + "'",
+               "--prior-error-m");
+  expect_error("eval pairs " + data + "--prior-error-deg 5 --prior-max-rotation-deg nan --out '" +
+                   Out("x") + "'",
+               "--prior-max-rotation-deg");
+  expect_error("eval pairs " + data + "--prior-error-deg 5 --prior-max-translation-m 0 --out '" +
+                   Out("x") + "'",
+               "expected a number > 0");
 }
 
 }  // namespace
