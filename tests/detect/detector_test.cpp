@@ -15,21 +15,11 @@ namespace zeroreg {
 namespace {
 
 using perception_test::ExpectInputError;
-using perception_test::FramePath;
+using perception_test::IoU;
 using perception_test::ModelPaths;
+using perception_test::ReadFrame;
 using perception_test::TempDir;
 using perception_test::WriteText;
-
-cv::Mat ReadFrame(int id) {
-  cv::Mat img = cv::imread(FramePath(id, "color.jpg"), cv::IMREAD_COLOR);
-  EXPECT_FALSE(img.empty()) << FramePath(id, "color.jpg");
-  return img;
-}
-
-float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
-  const float inter = (a & b).area();
-  return inter / (a.area() + b.area() - inter);
-}
 
 TEST(DetectHelpers, LetterboxIsTopLeftOn114) {
   cv::Mat img(480, 640, CV_8UC3, cv::Scalar(10, 20, 30));

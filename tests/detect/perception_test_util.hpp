@@ -1,5 +1,5 @@
-// Helpers shared by the detection and segmentation tests: model and frame paths, a self-cleaning
-// temporary folder, and a check that an InputError names a given file.
+// Helpers shared by the detection and segmentation tests: model and frame paths, a frame reader,
+// box IoU, a self-cleaning temporary folder, and a check that an InputError names a given file.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <opencv2/imgcodecs.hpp>
+
 #include "detect/detector.hpp"
 #include "zeroreg/error.hpp"
 
@@ -24,6 +26,19 @@ inline std::string FramePath(int frame, const std::string& suffix) {
   char name[64];
   std::snprintf(name, sizeof(name), "frame-%06d.%s", frame, suffix.c_str());
   return std::string(ZEROREG_REPO_DIR) + "/../shared/data/7scenes-redkitchen/frames/" + name;
+}
+
+// Frame `id` of the redkitchen scene as BGR (a test failure, and an empty image, if unreadable).
+inline cv::Mat ReadFrame(int id) {
+  cv::Mat img = cv::imread(FramePath(id, "color.jpg"), cv::IMREAD_COLOR);
+  EXPECT_FALSE(img.empty()) << FramePath(id, "color.jpg");
+  return img;
+}
+
+// Intersection over union of two boxes.
+inline float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
+  const float inter = (a & b).area();
+  return inter / (a.area() + b.area() - inter);
 }
 
 inline DetectorModelPaths ModelPaths() {

@@ -18,21 +18,11 @@ namespace zeroreg {
 namespace {
 
 using perception_test::ExpectInputError;
-using perception_test::FramePath;
+using perception_test::IoU;
 using perception_test::ModelPaths;
+using perception_test::ReadFrame;
 using perception_test::TempDir;
 using perception_test::WriteText;
-
-cv::Mat ReadFrame(int id) {
-  cv::Mat img = cv::imread(FramePath(id, "color.jpg"), cv::IMREAD_COLOR);
-  EXPECT_FALSE(img.empty()) << FramePath(id, "color.jpg");
-  return img;
-}
-
-float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
-  const float inter = (a & b).area();
-  return inter / (a.area() + b.area() - inter);
-}
 
 // "ensemble" here is both detectors on every view (ensemble_below = 0, configs/paper.json's);
 // the default's top-up (ensemble_below = 3) has its own test below.

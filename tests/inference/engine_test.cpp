@@ -19,17 +19,12 @@ namespace {
 
 using perception_test::AssetsDir;
 using perception_test::ExpectInputError;
-using perception_test::FramePath;
+using perception_test::IoU;
 using perception_test::ModelPaths;
+using perception_test::ReadFrame;
 
 // Frames of different content: table + chairs, the counter, a close-up (as in the SAM MANIFEST).
 const int kFrames[] = {0, 500, 802};
-
-cv::Mat ReadFrame(int id) {
-  cv::Mat img = cv::imread(FramePath(id, "color.jpg"), cv::IMREAD_COLOR);
-  EXPECT_FALSE(img.empty()) << FramePath(id, "color.jpg");
-  return img;
-}
 
 InferenceConfig Engine(const std::string& name, int threads = 2) {
   InferenceConfig c;
@@ -123,11 +118,6 @@ TEST(InferenceEngine, XFeatSameOnBothEngines) {
       EXPECT_LE(g.max_score_gap, 1e-3) << "frame " << frame;
     }
   }
-}
-
-float IoU(const cv::Rect2f& a, const cv::Rect2f& b) {
-  const float inter = (a & b).area();
-  return inter / (a.area() + b.area() - inter);
 }
 
 // Both detectors find the same boxes on every test frame: same labels, IoU >= 0.99, scores within

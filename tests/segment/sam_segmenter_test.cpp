@@ -17,6 +17,7 @@
 #include "detect/perception_test_util.hpp"
 #include "inference/onnx_model.hpp"
 #include "objects/appearance.hpp"
+#include "segment/detected_frames.hpp"
 #include "segment/mask_stats.hpp"
 #include "zeroreg/io.hpp"
 
@@ -24,33 +25,13 @@ namespace zeroreg {
 namespace {
 
 using mask_test::DepthIqr;
+using mask_test::Frame;
+using mask_test::RedkitchenFrame;
 
 using perception_test::AssetsDir;
 using perception_test::ExpectInputError;
-using perception_test::FramePath;
 using perception_test::Median;
-using perception_test::ModelPaths;
 using perception_test::TempDir;
-
-struct Frame {
-  std::string name;
-  cv::Mat bgr, depth;
-  std::vector<Detection> detections;
-};
-
-const Frame& RedkitchenFrame(int id) {
-  static std::map<int, Frame> cache;
-  auto it = cache.find(id);
-  if (it == cache.end()) {
-    Frame f;
-    f.name = FramePath(id, "color.jpg");
-    f.bgr = ReadColorImage(f.name);
-    f.depth = ReadDepthImage(FramePath(id, "depth.png"), 1000.0);
-    f.detections = MakeDetector(DetectorConfig{}, ModelPaths())->Detect(f.bgr, f.name);
-    it = cache.emplace(id, std::move(f)).first;
-  }
-  return it->second;
-}
 
 SamSegmenter& Sam(int threads = 2) {
   static std::map<int, std::unique_ptr<SamSegmenter>> models;

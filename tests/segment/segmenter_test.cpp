@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "detect/perception_test_util.hpp"
+#include "segment/detected_frames.hpp"
 #include "segment/mask_stats.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -22,33 +23,12 @@ namespace zeroreg {
 namespace {
 
 using mask_test::DepthIqr;
+using mask_test::Frame;
+using mask_test::RedkitchenFrame;
 
 using perception_test::ExpectInputError;
-using perception_test::FramePath;
-using perception_test::ModelPaths;
 using perception_test::TempDir;
 using perception_test::WriteText;
-
-struct Frame {
-  std::string name;
-  cv::Mat bgr, depth;
-  std::vector<Detection> detections;
-};
-
-// Frames and their YOLOX detections, loaded once for the whole suite (the detector is ~50 ms).
-const Frame& RedkitchenFrame(int id) {
-  static std::map<int, Frame> cache;
-  auto it = cache.find(id);
-  if (it == cache.end()) {
-    Frame f;
-    f.name = FramePath(id, "color.jpg");
-    f.bgr = ReadColorImage(f.name);
-    f.depth = ReadDepthImage(FramePath(id, "depth.png"), 1000.0);
-    f.detections = MakeDetector(DetectorConfig{}, ModelPaths())->Detect(f.bgr, f.name);
-    it = cache.emplace(id, std::move(f)).first;
-  }
-  return it->second;
-}
 
 Detection MakeDetection(float x1, float y1, float x2, float y2, const std::string& label = "obj") {
   Detection d;
