@@ -127,10 +127,10 @@ void AddCommonOptions(CLI::App& app, CommonOptions* o) {
                AtLeast(0, /*integer=*/false));
   prior_option("--prior-max-rotation-deg", &o->prior.max_rotation_deg, &o->prior_tolerance_given,
                "how far (deg) a valid pose may turn from the prior, as register's [default 15]",
-               GreaterThan(0));
+               CLI::Validator(PositiveNumber, "a positive number"));
   prior_option("--prior-max-translation-m", &o->prior.max_translation_m, &o->prior_tolerance_given,
                "how far (m) a valid pose may move from the prior, as register's [default 0.3]",
-               GreaterThan(0));
+               CLI::Validator(PositiveNumber, "a positive number"));
   AddConfigOptions(app, &o->config);
 }
 

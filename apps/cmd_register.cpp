@@ -1,5 +1,4 @@
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -35,17 +34,6 @@ void PrintTransform(const Transform& T) {
   for (int r = 0; r < 4; ++r) {
     std::printf("  [% .6f % .6f % .6f % .6f]\n", T(r, 0), T(r, 1), T(r, 2), T(r, 3));
   }
-}
-
-// CLI11 check of a tolerance: a positive, finite number (its own PositiveNumber prints DBL_MAX).
-std::string PositiveNumber(const std::string& text) {
-  double v = 0;
-  try {
-    v = std::stod(text);
-  } catch (const std::exception&) {
-    return "'" + text + "' is not a number; expected a positive number";
-  }
-  return std::isfinite(v) && v > 0 ? "" : "'" + text + "': expected a positive number";
 }
 
 }  // namespace

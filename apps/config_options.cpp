@@ -68,6 +68,16 @@ CLI::Validator InRange(double min, double max, bool integer) {
                          integer, [min, max](double x) { return x >= min && x <= max; });
 }
 
+std::string PositiveNumber(const std::string& text) {
+  double v = 0;
+  try {
+    v = std::stod(text);
+  } catch (const std::exception&) {
+    return "'" + text + "' is not a number; expected a positive number";
+  }
+  return std::isfinite(v) && v > 0 ? "" : "'" + text + "': expected a positive number";
+}
+
 void CheckOutputFile(const std::string& path, const std::string& option) {
   namespace fs = std::filesystem;
   const fs::path p(path);

@@ -31,6 +31,9 @@ bool GivesTopLevelKey(const ConfigOptions& options, const std::string& key);
 CLI::Validator AtLeast(double min, bool integer);
 CLI::Validator GreaterThan(double min);
 CLI::Validator InRange(double min, double max, bool integer);
+// CLI11 check of a tolerance (the motion prior's, in register and eval): a positive, finite number
+// (CLI11's own PositiveNumber prints DBL_MAX).
+std::string PositiveNumber(const std::string& text);
 
 // Refuses an output file whose folder does not exist or is a file, before any work is done.
 void CheckOutputFile(const std::string& path, const std::string& option);

@@ -68,6 +68,10 @@ struct MotionPrior {
   double max_translation_m = 0.30;
 };
 
+// Whether `result` is the motion prior itself or ICP from it (paths "prior" and "prior icp"),
+// rather than the estimate of a correspondence source.
+bool ComesFromMotionPrior(const RegistrationResult& result);
+
 class Pipeline {
  public:
   // Resolves and verifies the model files and loads them. Throws InputError on a bad config or a

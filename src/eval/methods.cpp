@@ -88,7 +88,7 @@ class ZeroregMethod : public PairMethod {
   // and "prior icp", tried when no source is valid within it) is part of any method given one.
   MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target,
                       bool with_prior) const {
-    const bool from_prior = with_prior && (r.path == "prior" || r.path == "prior icp");
+    const bool from_prior = with_prior && ComesFromMotionPrior(r);
     if (require_image_path_ && r.path != "image" && !from_prior) {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
       throw std::logic_error("--method image: the pipeline used the '" + r.path +

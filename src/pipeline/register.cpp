@@ -69,6 +69,10 @@ std::size_t PreparedScan::MemoryBytes() const {
 
 namespace {
 
+// The paths of a result made from the motion prior (ComesFromMotionPrior).
+constexpr const char* kPriorPath = "prior";
+constexpr const char* kPriorIcpPath = "prior icp";
+
 using Prepared = PreparedScan::Data;
 
 // The core trusts its inputs; this is the boundary check for scans built by callers (C++ or
@@ -510,7 +514,7 @@ void JudgePriorPose(const Prepared& source, const Prepared& target, const Pipeli
     return;
   }
   RegistrationResult r;
-  r.path = "prior";
+  r.path = kPriorPath;
   r.T_target_source = prior.T_target_source;
   r.count_test_passed = true;  // the evidence is the prior itself
   r.reason = "started from the motion prior";
@@ -530,7 +534,7 @@ void JudgePriorPose(const Prepared& source, const Prepared& target, const Pipeli
         "; not valid: the geometry is degenerate and no correspondence fixes the motion "
         "it leaves open";
   }
-  if (r.T_target_source != prior.T_target_source) r.path = "prior icp";
+  if (r.T_target_source != prior.T_target_source) r.path = kPriorIcpPath;
   std::vector<CandidateSummary> candidates = result->candidates;
   candidates.insert(candidates.end(), r.candidates.begin(), r.candidates.end());
   if (r.valid) {
@@ -546,6 +550,10 @@ void JudgePriorPose(const Prepared& source, const Prepared& target, const Pipeli
 std::atomic<std::uint64_t> g_next_pipeline_id{1};
 
 }  // namespace
+
+bool ComesFromMotionPrior(const RegistrationResult& result) {
+  return result.path == kPriorPath || result.path == kPriorIcpPath;
+}
 
 struct Pipeline::Impl {
   PipelineConfig config;

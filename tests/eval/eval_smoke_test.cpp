@@ -380,7 +380,7 @@ TEST_F(EvalSmoke, BadArgumentsAreClearErrors) {
                "--prior-max-rotation-deg");
   expect_error("eval pairs " + data + "--prior-error-deg 5 --prior-max-translation-m 0 --out '" +
                    Out("x") + "'",
-               "expected a number > 0");
+               "expected a positive number");
 }
 
 }  // namespace
