@@ -1,6 +1,7 @@
 #include "io/text_parsing.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include <cerrno>
 #include <cmath>
@@ -41,8 +42,57 @@ std::string DumpJson(const nlohmann::json& json, int indent) {
   return json.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
+namespace {
+
+// Writes `text` into the existing non-regular file `path` (a device, a FIFO, a terminal) as a
+// shell's `>` would: such a file is an endpoint, not a document to replace.
+void WriteThrough(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0)
+    throw MakeInputError(path, std::string("cannot be written (") + std::strerror(errno) + ")");
+  size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int error = n < 0 ? errno : EIO;
+      ::close(fd);
+      throw MakeInputError(path, std::string("cannot be written (") + std::strerror(error) + ")");
+    }
+    written += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0 && errno != EINTR) {
+    throw MakeInputError(path, std::string("cannot be written (") + std::strerror(errno) + ")");
+  }
+}
+
+// The file a chain of symbolic links ends at (the path itself when it is not a link), so that
+// replacing it keeps the links. Throws InputError naming `path` for a loop.
+fs::path FollowLinks(const fs::path& path) {
+  fs::path current = path;
+  for (int hops = 0; hops < 40; ++hops) {
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(current, ec))) return current;
+    const fs::path next = fs::read_symlink(current, ec);
+    if (ec) throw MakeInputError(path.string(), "cannot read the link (" + ec.message() + ")");
+    current = next.is_absolute() ? next : (current.parent_path() / next).lexically_normal();
+  }
+  throw MakeInputError(path.string(), "is a loop of symbolic links; expected a file name");
+}
+
+}  // namespace
+
 void WriteFileAtomically(const std::string& path, const std::string& text) {
-  const fs::path target(path);
+  fs::path target(path);
+  struct stat info {};
+  if (::stat(path.c_str(), &info) == 0) {
+    if (S_ISDIR(info.st_mode)) throw MakeInputError(path, "is a folder; expected a file name");
+    // A device, FIFO or socket (also through a link: /dev/stdout): renaming a file over it would
+    // replace the device node or the link, so the text is written into it instead.
+    if (!S_ISREG(info.st_mode)) return WriteThrough(path, text);
+  }
+  // A link (to a regular file, or dangling): the file it names is replaced and the link kept.
+  target = FollowLinks(target);
   // Same folder, so the rename stays on one file system; the pid keeps two writers apart.
   const fs::path temporary =
       target.parent_path() / ("." + target.filename().string() + ".tmp" + std::to_string(getpid()));
@@ -58,7 +108,7 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
     const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      const int error = errno;
+      const int error = n < 0 ? errno : EIO;
       ::close(fd);
       throw fail(std::strerror(error));
     }

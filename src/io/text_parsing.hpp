@@ -23,7 +23,10 @@ nlohmann::json ReadJsonFile(const std::string& path, const std::string& what);
 std::string DumpJson(const nlohmann::json& json, int indent = -1);
 
 // Writes `text` to `path` through a temporary file in the same folder and a rename, so readers
-// never see a partial file and a failure leaves any previous file intact. InputError on failure.
+// never see a partial file and a failure leaves any previous file intact. A link is kept: the file
+// it names is replaced. An existing output that is not a regular file (a device such as /dev/null,
+// a FIFO, /dev/stdout) is written into, never renamed over; a folder is refused. InputError on
+// failure, with the system's reason ("No space left on device").
 void WriteFileAtomically(const std::string& path, const std::string& text);
 
 // A limit that the environment variable `name` may override (docs/FORMATS.md, "Limits"): its
