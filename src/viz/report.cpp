@@ -41,6 +41,45 @@ std::string ReadBytes(const std::string& path) {
   return s.str();
 }
 
+// A shared page must carry only the results, never the files of whoever makes it: the page reads a
+// file of the folder only when it is a regular file reached without a symbolic link.
+bool IsPlainFile(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(fs::symlink_status(path, ec));
+}
+
+// Throws InputError naming `path` when it exists but is a link or not a regular file; returns
+// whether it exists.
+bool RequirePlainFileIfPresent(const fs::path& path) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(path, ec);
+  if (!fs::exists(status)) return false;
+  if (!fs::is_regular_file(status)) {
+    throw MakeInputError(
+        path.string(),
+        std::string(fs::is_symlink(status) ? "is a symbolic link" : "is not a regular file") +
+            "; the report reads only regular files inside the "
+            "results folder");
+  }
+  return true;
+}
+
+// `root`/`relative` when every component of `relative` is a plain name (no "..", no absolute
+// part) and every folder on the way is a real folder, not a link; "" otherwise.
+std::string FolderInside(const fs::path& root, const std::string& relative) {
+  const fs::path rel(relative);
+  if (rel.empty() || rel.has_root_path()) return "";
+  fs::path current = root;
+  for (const fs::path& part : rel) {
+    const std::string name = part.string();
+    if (name.empty() || name == "." || name == "..") return "";
+    current /= part;
+    std::error_code ec;
+    if (!fs::is_directory(fs::symlink_status(current, ec))) return "";
+  }
+  return current.string();
+}
+
 // ---- tables ------------------------------------------------------------------------------------
 
 struct Column {
@@ -164,10 +203,11 @@ std::string MarkdownToHtml(const std::string& markdown) {
     flush_table();
     if (line.empty()) continue;
     if (line[0] == '#') {
-      const size_t level = std::min<size_t>(line.find_first_not_of('#'), 3);
+      // A line of '#' alone (or with spaces) is an empty heading.
+      const size_t level = std::min<size_t>(std::min(line.find_first_not_of('#'), line.size()), 3);
       const std::string tag = "h" + std::to_string(level + 2);  // under the page's own h1/h2
-      h << "<" << tag << ">" << InlineMarkdown(line.substr(line.find_first_not_of("# "))) << "</"
-        << tag << ">\n";
+      const size_t text = std::min(line.find_first_not_of("# "), line.size());
+      h << "<" << tag << ">" << InlineMarkdown(line.substr(text)) << "</" << tag << ">\n";
     } else {
       h << "<p>" << InlineMarkdown(line) << "</p>\n";
     }
@@ -189,14 +229,14 @@ struct Picture {
 std::vector<Picture> FindPictures(const std::string& dir) {
   std::vector<Picture> found;
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return found;
+  if (dir.empty() || !fs::is_directory(fs::symlink_status(dir, ec))) return found;
   static const std::regex name_re(
       "(objects|correspondences|registered|verification|hypotheses)-view([0-9]+)(?:-([0-9]+))?\\.("
       "png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
     const std::string name = entry.path().filename().string();
-    if (!std::regex_match(name, m, name_re)) continue;
+    if (!std::regex_match(name, m, name_re) || !IsPlainFile(entry.path())) continue;
     const int view = std::stoi(m[2]);
     found.push_back({m[1], view, m[3].matched ? std::stoi(m[3]) : view, entry.path().string()});
   }
@@ -409,6 +449,7 @@ std::string StringOr(const json& j, const char* key) {
 
 std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   const std::string path = (fs::path(dir) / "result.json").string();
+  RequirePlainFileIfPresent(path);
   const json doc =
       detail::ReadJsonFile(path, "result.json of a `zeroreg register --out-dir` folder");
   if (!doc.is_object() || !doc.contains("result") || !doc["result"].is_object()) {
@@ -522,7 +563,7 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   }
 
   // Pictures.
-  const std::vector<Picture> pictures = FindPictures((fs::path(dir) / "pictures").string());
+  const std::vector<Picture> pictures = FindPictures(FolderInside(dir, "pictures"));
   h << "<h2>Pictures</h2>\n";
   int embedded = 0;
   if (pictures.empty()) {
@@ -542,7 +583,7 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
       {"target.ply", "target in its own frame, own colours"}};
   for (const auto& [name, what] : ply_files) {
     const std::string ply = (fs::path(dir) / name).string();
-    if (!fs::exists(ply)) continue;
+    if (!IsPlainFile(ply)) continue;
     ply_rows.push_back({name, what + Format(" &mdash; %lld points", PlyVertexCount(ply))});
   }
   if (ply_rows.empty()) {
@@ -575,9 +616,11 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
 std::string EvalReport(const std::string& dir, const ReportConfig& config) {
   const fs::path root(dir);
   json summary = json::object();
-  if (fs::exists(root / "summary.json"))
+  if (RequirePlainFileIfPresent(root / "summary.json"))
     summary =
         detail::ReadJsonFile((root / "summary.json").string(), "summary.json of a results folder");
+  RequirePlainFileIfPresent(root / "pairs.jsonl");
+  RequirePlainFileIfPresent(root / "summary.md");
   const std::vector<PairRecord> records = ReadPairsJsonl((root / "pairs.jsonl").string());
   const std::string protocol = StringOr(summary, "protocol");
   const std::string method = StringOr(summary, "method");
@@ -611,14 +654,15 @@ std::string EvalReport(const std::string& dir, const ReportConfig& config) {
   int with_pictures = 0, skipped_pictures = 0;
   for (size_t i = 0; i < records.size(); ++i) {
     const PairRecord& p = records[i];
-    const fs::path folder =
-        root / PairPictureFolder(p.benchmark, p.scene, p.target_id, p.source_id);
-    if (FindPictures(folder.string()).empty()) continue;
+    // `benchmark` and `scene` come from pairs.jsonl: a "../" in them must not reach outside.
+    const std::string folder =
+        FolderInside(root, PairPictureFolder(p.benchmark, p.scene, p.target_id, p.source_id));
+    if (FindPictures(folder).empty()) continue;
     if (config.max_pairs_with_pictures >= 0 && with_pictures >= config.max_pairs_with_pictures) {
       ++skipped_pictures;
       continue;
     }
-    picture_dirs[i] = folder.string();
+    picture_dirs[i] = folder;
     ++with_pictures;
   }
 
@@ -841,12 +885,31 @@ std::string BuildReportHtml(const std::string& dir, const ReportConfig& config) 
   }
 }
 
-void WriteReport(const std::string& dir, const std::string& out_path, const ReportConfig& config) {
-  const std::string html = BuildReportHtml(dir, config);
-  std::ofstream out(out_path, std::ios::binary | std::ios::trunc);
-  if (!out || !out.write(html.data(), static_cast<std::streamsize>(html.size())) || !out.flush()) {
-    throw MakeInputError(out_path, "cannot write the report");
+void CheckReportOutput(const std::string& out_path) {
+  std::error_code ec;
+  const fs::file_status status = fs::status(out_path, ec);  // through links: what is written
+  if (fs::is_directory(status)) {
+    throw MakeInputError(out_path, "is a folder; expected the name of the HTML file to write");
   }
+  if (!fs::is_regular_file(status)) return;  // new, or a device / FIFO written through
+  // An existing file is replaced only when it is a page (an earlier report): --out naming
+  // pairs.jsonl, summary.json or any other file would destroy it.
+  std::ifstream in(out_path, std::ios::binary);
+  std::string start(15, '\0');
+  in.read(&start[0], static_cast<std::streamsize>(start.size()));
+  start.resize(static_cast<size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  if (fs::file_size(out_path, ec) > 0 && start != "<!DOCTYPE html>") {
+    throw MakeInputError(out_path,
+                         "exists and is not an HTML page (a results file?); the report replaces "
+                         "only an earlier report: expected a new file name, e.g. report.html");
+  }
+}
+
+void WriteReport(const std::string& dir, const std::string& out_path, const ReportConfig& config) {
+  CheckReportOutput(out_path);  // before the page is built, which may take seconds
+  const std::string html = BuildReportHtml(dir, config);
+  // Through a temporary file and a rename: a full disk leaves the previous page whole.
+  detail::WriteFileAtomically(out_path, html);
 }
 
 }  // namespace zeroreg

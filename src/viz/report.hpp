@@ -40,7 +40,14 @@ std::string PairPictureFolder(const std::string& benchmark, const std::string& s
 // The HTML page for `dir`. Throws InputError when a file of the folder is missing or malformed.
 std::string BuildReportHtml(const std::string& dir, const ReportConfig& config = ReportConfig());
 
-// Builds the page and writes it to `out_path` (InputError if it cannot be written).
+// Throws InputError naming `out_path` unless the page may be written there: a new file, an earlier
+// page (a file starting with <!DOCTYPE html>), or a device / FIFO; never a folder or a results
+// file.
+void CheckReportOutput(const std::string& out_path);
+
+// Builds the page and writes it to `out_path` through a temporary file and a rename (InputError,
+// with the system's reason, if it cannot be written; the previous page then stays whole). Only
+// regular files inside `dir`, reached without symbolic links, are read into the page.
 void WriteReport(const std::string& dir, const std::string& out_path,
                  const ReportConfig& config = ReportConfig());
 

@@ -4,6 +4,8 @@
 #include "viz/report.hpp"
 
 #include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <open3d/geometry/PointCloud.h>
@@ -312,6 +314,159 @@ TEST(EvalReportMatch, ThreeDMatchFolderShowsRegisteredAndRecallError) {
   EXPECT_NE(body.find("frame-000300.depth.png: not found"), std::string::npos);
   EXPECT_EQ(body.find("data-value=\"0.5\""), std::string::npos);  // no E for it
   ExpectNoNetworkReferences(html);
+  fs::remove_all(dir);
+}
+
+// ---- what the page reads and where it is written ---------------------------------------------
+
+// One pair of benchmark `benchmark` / scene "s" (target 0, source 20) in a new eval folder.
+fs::path OnePairEvalFolder(const std::string& what, const std::string& benchmark) {
+  const fs::path dir = TempDir(what);
+  PairRecord r;
+  r.benchmark = benchmark;
+  r.scene = "s";
+  r.key = benchmark + "/s 0 20";
+  r.method = "zeroreg";
+  r.source_id = 20;
+  r.valid = true;
+  r.reason = "ok";
+  WritePairsJsonl((dir / "pairs.jsonl").string(), {r});
+  return dir;
+}
+
+void WritePicture(const fs::path& path) {
+  fs::create_directories(path.parent_path());
+  ASSERT_TRUE(cv::imwrite(path.string(), cv::Mat(30, 50, CV_8UC3, cv::Scalar(40, 90, 200))));
+}
+
+// A heading line that is only '#' (or '#' and spaces) is an empty heading, not a crash.
+TEST(ReportInputs, HashAloneInSummaryMdIsAnEmptyHeading) {
+  const fs::path dir = OnePairEvalFolder("hash-alone", "b");
+  std::ofstream(dir / "summary.md") << "# Results\n#\n##   \n| a | b |\n|---|---|\n| 1 | 2 |\n";
+  std::string html;
+  ASSERT_NO_THROW(html = BuildReportHtml(dir.string()));
+  EXPECT_NE(html.find("<h3>Results</h3>"), std::string::npos);
+  EXPECT_NE(html.find("<table class=\"summary\">"), std::string::npos);
+  const auto r = testing::RunCli("report '" + dir.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  fs::remove_all(dir);
+}
+
+// `benchmark` of pairs.jsonl names the picture folder: one that climbs out of the results folder
+// (a shared report would carry the viewer's files) embeds nothing.
+TEST(ReportInputs, PicturesOutsideTheFolderAreNotEmbedded) {
+  const fs::path outside = TempDir("outside");
+  WritePicture(outside / "s" / "0_20" / "registered-view0.png");
+  const std::string climb = "../../" + outside.filename().string();
+  const fs::path dir = OnePairEvalFolder("climbing", climb);
+  fs::create_directories(dir / "pictures");  // for the system to resolve pictures/../..
+  ASSERT_TRUE(fs::exists(dir / PairPictureFolder(climb, "s", 0, 20) / "registered-view0.png"));
+  const std::string html = BuildReportHtml(dir.string());
+  EXPECT_EQ(DataImages(html), 0);
+  fs::remove_all(dir);
+  fs::remove_all(outside);
+}
+
+// Links in pictures/ (to a file or a folder elsewhere) are not followed; regular files are shown.
+TEST(ReportInputs, LinksInPicturesAreNotFollowed) {
+  const fs::path outside = TempDir("outside-links");
+  WritePicture(outside / "secret.png");
+  WritePicture(outside / "folder" / "registered-view0.png");
+  const fs::path dir = OnePairEvalFolder("links", "b");
+  const fs::path pair = dir / PairPictureFolder("b", "s", 0, 20);
+  WritePicture(pair / "correspondences-view0.png");
+  fs::create_symlink(outside / "secret.png", pair / "registered-view0.png");
+  EXPECT_EQ(DataImages(BuildReportHtml(dir.string())), 1);  // the regular file only
+
+  // The pair's folder itself a link to a folder elsewhere.
+  fs::remove_all(dir / "pictures");
+  fs::create_directories(dir / "pictures" / "b" / "s");
+  fs::create_directory_symlink(outside / "folder", pair);
+  EXPECT_EQ(DataImages(BuildReportHtml(dir.string())), 0);
+
+  // A register folder's pictures/ a link.
+  const fs::path reg = TempDir("links-register");
+  std::ofstream(reg / "result.json") << R"({"result": {"valid": true}})";
+  fs::create_directory_symlink(outside / "folder", reg / "pictures");
+  EXPECT_EQ(DataImages(BuildReportHtml(reg.string())), 0);
+  // summary.md a link to a file elsewhere: its text is not shown.
+  std::ofstream(outside / "private.txt") << "PRIVATE-TEXT\n";
+  fs::create_symlink(outside / "private.txt", dir / "summary.md");
+  std::string html;
+  try {
+    html = BuildReportHtml(dir.string());
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("summary.md"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(html.find("PRIVATE-TEXT"), std::string::npos);
+  fs::remove_all(dir);
+  fs::remove_all(reg);
+  fs::remove_all(outside);
+}
+
+// The page goes through a temporary file: a failed write leaves the previous page whole and says
+// why (here the file-size limit stands for a full disk).
+TEST(ReportOutput, FailedWriteKeepsThePreviousPageAndSaysWhy) {
+  const fs::path dir = OnePairEvalFolder("failed-write", "b");
+  const std::string out = (dir / "report.html").string();
+  WriteReport(dir.string(), out);
+  const std::string previous = ReadText(out);
+  ASSERT_GT(previous.size(), 4000u);
+  std::string message;
+  {
+    struct sigaction ignore {
+    }, old{};
+    ignore.sa_handler = SIG_IGN;
+    ::sigaction(SIGXFSZ, &ignore, &old);
+    rlimit limit{}, saved{};
+    ::getrlimit(RLIMIT_FSIZE, &saved);
+    limit = saved;
+    limit.rlim_cur = 2000;
+    ::setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      WriteReport(dir.string(), out);
+    } catch (const InputError& e) {
+      message = e.what();
+    }
+    ::setrlimit(RLIMIT_FSIZE, &saved);
+    ::sigaction(SIGXFSZ, &old, nullptr);
+  }
+  EXPECT_NE(message.find(out), std::string::npos) << message;
+  EXPECT_NE(message.find("File too large"), std::string::npos) << message;
+  EXPECT_TRUE(ReadText(out) == previous) << "the previous page was damaged";
+  // A full device: the reason is the system's.
+  if (fs::is_character_file("/dev/full")) {
+    fs::create_symlink("/dev/full", dir / "full");  // a link: a regression replaces only it
+    try {
+      WriteReport(dir.string(), (dir / "full").string());
+      ADD_FAILURE() << "no error writing to /dev/full";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos)
+          << e.what();
+    }
+  }
+  fs::remove_all(dir);
+}
+
+// --out naming a file of the results (pairs.jsonl, summary.json, ...) is refused; an earlier page
+// is replaced.
+TEST(ReportOutput, OutNamingAResultsFileIsRefused) {
+  const fs::path dir = OnePairEvalFolder("out-over-results", "b");
+  std::ofstream(dir / "summary.json") << "{}\n";
+  const std::string records = ReadText(dir / "pairs.jsonl");
+  for (const char* name : {"pairs.jsonl", "summary.json"}) {
+    const std::string out = (dir / name).string();
+    const std::string before = ReadText(out);
+    const auto r = testing::RunCli("report '" + dir.string() + "' --out '" + out + "'");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(out), std::string::npos) << r.output;
+    EXPECT_TRUE(ReadText(out) == before) << name << " was overwritten";
+  }
+  EXPECT_EQ(ReadText(dir / "pairs.jsonl"), records);
+  const std::string page = (dir / "page.html").string();
+  EXPECT_EQ(testing::RunCli("report '" + dir.string() + "' --out '" + page + "'").exit_code, 0);
+  const auto again = testing::RunCli("report '" + dir.string() + "' --out '" + page + "'");
+  EXPECT_EQ(again.exit_code, 0) << again.output;
   fs::remove_all(dir);
 }
 
