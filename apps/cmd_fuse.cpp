@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 
 #include "commands.hpp"
@@ -87,6 +88,12 @@ Runner AddFuseCommand(CLI::App& app) {
     DatasetOptions options;
     options.depth_scale = o->depth_scale;
     CheckFuseConfig(o->config);  // before the dataset is read
+    std::error_code ec;
+    if (std::filesystem::exists(o->out, ec) && !std::filesystem::is_directory(o->out, ec)) {
+      throw MakeInputError("--out " + o->out,
+                           "exists and is not a folder; expected a folder for the fragment "
+                           "(scan.json, cloud.ply, views) or a new name");
+    }
     const auto dataset = OpenDataset(o->dataset, options);
     const std::vector<int> frames = ParseFrames(o->frames, *dataset);
     const bool built = FuseFragment(*dataset, frames, o->config, o->out, [](int done, int total) {

@@ -36,6 +36,61 @@ void PrintTransform(const Transform& T) {
   }
 }
 
+// Refuses an output that is one of the run's inputs (--out naming the source image, --out-dir
+// holding the --gt file as result.json, ...): the result would replace what it was computed from.
+// Paths are compared as files (links and hard links included), before anything is read or written.
+void RefuseOutputsThatAreInputs(const RegisterOptions& o, const DatasetOptions& dataset_options) {
+  namespace fs = std::filesystem;
+  using Named = std::vector<std::pair<std::string, std::string>>;  // (option, path)
+  Named inputs;
+  for (const auto& [option, spec] : Named{{"--source", o.source}, {"--target", o.target}}) {
+    try {
+      for (const std::string& file : ScanInputFiles(spec, dataset_options)) {
+        inputs.emplace_back(option, file);
+      }
+    } catch (const std::exception&) {
+      // Reading the scan names the problem.
+    }
+  }
+  for (const auto& [option, file] :
+       Named{{"--gt", o.gt}, {"--prior", o.prior}, {"--config", o.config.config_file}}) {
+    if (!file.empty()) inputs.emplace_back(option, file);
+  }
+  Named outputs;
+  if (!o.out.empty()) outputs.emplace_back("--out", o.out);
+  if (!o.out_dir.empty()) {
+    for (const char* name : {"result.json", "registered.ply", "source.ply", "target.ply"}) {
+      outputs.emplace_back("--out-dir", (fs::path(o.out_dir) / name).string());
+    }
+  }
+  // The picture folders lose their earlier pictures: an input among them would go too.
+  Named picture_folders;
+  if (!o.viz.empty()) picture_folders.emplace_back("--viz", o.viz);
+  if (!o.out_dir.empty()) {
+    picture_folders.emplace_back("--out-dir", (fs::path(o.out_dir) / "pictures").string());
+  }
+  for (const auto& [input_option, input] : inputs) {
+    std::error_code ec;
+    for (const auto& [option, output] : outputs) {
+      if (fs::equivalent(output, input, ec) && !ec) {
+        throw MakeInputError(option + " " + output, "is the " + input_option + " file " + input +
+                                                        ", which the result would overwrite; "
+                                                        "expected another file name");
+      }
+    }
+    for (const auto& [option, folder] : picture_folders) {
+      const fs::path parent =
+          fs::path(input).parent_path().empty() ? fs::path(".") : fs::path(input).parent_path();
+      if (IsRegistrationPictureName(fs::path(input).filename().string()) &&
+          fs::equivalent(parent, folder, ec) && !ec) {
+        throw MakeInputError(option + " " + folder, "its pictures would replace the " +
+                                                        input_option + " file " + input +
+                                                        "; expected another folder");
+      }
+    }
+  }
+}
+
 }  // namespace
 
 Runner AddRegisterCommand(CLI::App& app) {
@@ -97,6 +152,7 @@ Runner AddRegisterCommand(CLI::App& app) {
     const PipelineConfig config = BuildConfig(o->config);
     DatasetOptions dataset_options;
     dataset_options.depth_scale = o->depth_scale;
+    RefuseOutputsThatAreInputs(*o, dataset_options);
     const auto process_start = std::chrono::steady_clock::now();
     auto last = process_start;
     // Wall time since the previous call, ms.

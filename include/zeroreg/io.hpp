@@ -56,6 +56,11 @@ class Dataset {
   // Throws InputError if the id is unknown or a file is missing or malformed. T_world_camera_gt is
   // set when the layout has poses for the frame.
   virtual View LoadFrame(int frame_id) const = 0;
+  // Raw depth units per metre the frames are read with.
+  virtual double depth_scale() const = 0;
+  // The files LoadFrame(frame_id) reads (colour, depth, pose when present, intrinsics), for cache
+  // keys and for refusing an output that would overwrite one. Throws InputError for an unknown id.
+  virtual std::vector<std::string> FrameFiles(int frame_id) const = 0;
 };
 
 // Detects the layout of `root` (a folder, or the 3DMatch `frames/` folder's parent) and opens it.
@@ -73,6 +78,12 @@ Scan ScanFromView(View view);
 //   IMAGE          a 3DMatch-layout colour image frame-XXXXXX.color.{jpg,png}; depth, pose and
 //                  camera-intrinsics.txt are found beside it (or in its parent folder)
 Scan LoadScan(const std::string& spec, const DatasetOptions& options = {});
+
+// The files LoadScan(spec) reads: the frame's files (DIR@N, IMAGE), or the descriptor and the
+// views' images and cloud it names (PATH.json, DIR). Throws InputError as LoadScan does for a
+// specification it cannot resolve.
+std::vector<std::string> ScanInputFiles(const std::string& spec,
+                                        const DatasetOptions& options = {});
 
 // ---- scan descriptors (generic layout) -------------------------------------------------------
 

@@ -171,6 +171,14 @@ class ThreeDMatchDataset : public Dataset {
     if (IsFile(pose_path)) view.T_world_camera_gt = ReadPoseFile(pose_path.string());
     return view;
   }
+  double depth_scale() const override { return depth_scale_; }
+  std::vector<std::string> FrameFiles(int frame_id) const override {
+    const auto it = colors_.find(frame_id);
+    if (it == colors_.end()) ThrowUnknownFrame(root_, frame_id, FrameIds());
+    const std::string stem = it->second.substr(0, it->second.find(".color."));
+    return {(frames_dir_ / it->second).string(), (frames_dir_ / (stem + ".depth.png")).string(),
+            (frames_dir_ / (stem + ".pose.txt")).string(), intrinsics_path_};
+  }
 
  private:
   std::string root_;
@@ -338,6 +346,19 @@ class TumDataset : public Dataset {
     view.T_world_camera_gt = frame.T_world_camera;
     return view;
   }
+  double depth_scale() const override { return depth_scale_; }
+  std::vector<std::string> FrameFiles(int frame_id) const override {
+    if (frame_id < 0 || frame_id >= static_cast<int>(frames_.size())) {
+      ThrowUnknownFrame(root_, frame_id, FrameIds());
+    }
+    const Frame& frame = frames_[static_cast<size_t>(frame_id)];
+    std::vector<std::string> files = {frame.color, frame.depth};
+    for (const char* name :
+         {"rgb.txt", "depth.txt", "groundtruth.txt", "camera-intrinsics.txt", "intrinsics.txt"}) {
+      files.push_back((dir_ / name).string());
+    }
+    return files;
+  }
 
  private:
   struct Frame {
@@ -411,6 +432,15 @@ class ScanNetDataset : public Dataset {
       if (!has_inf) view.T_world_camera_gt = detail::RigidFromNumbers(n, pose_path.string());
     }
     return view;
+  }
+  double depth_scale() const override { return depth_scale_; }
+  std::vector<std::string> FrameFiles(int frame_id) const override {
+    const auto it = colors_.find(frame_id);
+    if (it == colors_.end()) ThrowUnknownFrame(root_, frame_id, FrameIds());
+    const std::string stem = fs::path(it->second).stem().string();
+    return {(dir_ / "color" / it->second).string(), (dir_ / "depth" / (stem + ".png")).string(),
+            (dir_ / "pose" / (stem + ".txt")).string(),
+            (dir_ / "intrinsic" / "intrinsic_depth.txt").string()};
   }
 
  private:
@@ -510,6 +540,48 @@ Scan LoadScan(const std::string& spec, const DatasetOptions& options) {
   throw MakeInputError(spec,
                        "unrecognised scan specification; expected DIR@N, PATH.json, DIR with "
                        "scan.json, or a 3DMatch frame-XXXXXX.color.{jpg,png}");
+}
+
+std::vector<std::string> ScanInputFiles(const std::string& spec, const DatasetOptions& options) {
+  std::error_code ec;
+  const bool exists = fs::exists(spec, ec);
+  const auto at = spec.rfind('@');
+  if (!exists && at != std::string::npos) {  // DIR@N, as LoadScan reads it
+    const std::string number = spec.substr(at + 1);
+    if (!AllDigits(number) || number.size() > 9) return {};
+    return OpenDataset(spec.substr(0, at), options)->FrameFiles(std::stoi(number));
+  }
+  if (!exists) return {};
+  fs::path descriptor;
+  if (IsDirectory(spec)) {
+    descriptor = fs::path(spec) / "scan.json";
+  } else if (ToLower(fs::path(spec).extension().string()) == ".json") {
+    descriptor = spec;
+  }
+  if (!descriptor.empty()) {
+    std::vector<std::string> files = {descriptor.string()};
+    if (!IsFile(descriptor)) return files;
+    const ScanDescriptor d = ReadScanDescriptor(descriptor.string());
+    const std::string base = descriptor.parent_path().string();
+    for (const ScanDescriptorView& v : d.views) {
+      files.push_back(detail::ResolvePath(base, v.color));
+      files.push_back(detail::ResolvePath(base, v.depth));
+    }
+    if (!d.cloud.empty()) files.push_back(detail::ResolvePath(base, d.cloud));
+    return files;
+  }
+  std::smatch m;
+  const fs::path path(spec);
+  const std::string file = path.filename().string();
+  if (std::regex_match(file, m, ThreeDMatchColorRegex())) {
+    fs::path folder = path.parent_path();
+    if (folder.empty()) folder = ".";
+    const ThreeDMatchDataset dataset(folder.string(), folder,
+                                     ResolveDepthScale(options, kThreeDMatchDepthScale));
+    const int id = FrameIdFromDigits(m[1].str());
+    if (id >= 0) return dataset.FrameFiles(id);
+  }
+  return {spec};
 }
 
 }  // namespace zeroreg

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
+#include <regex>
 #include <set>
 
 #include "estimate/lift.hpp"
@@ -229,6 +230,13 @@ cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const Registratio
   return canvas;
 }
 
+bool IsRegistrationPictureName(const std::string& file_name) {
+  static const std::regex name_re(
+      "(objects|correspondences|registered|verification|hypotheses)-view[0-9]+(-[0-9]+)?\\.(png|"
+      "jpg)");
+  return std::regex_match(file_name, name_re);
+}
+
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
                                                    const RegistrationResult& result,
@@ -236,6 +244,19 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw MakeInputError(dir, "cannot create the picture folder (" + ec.message() + ")");
+  // A run with fewer views, or without a choice of candidates, writes fewer pictures: those of an
+  // earlier run would otherwise be shown (by `zeroreg report`) as this result's.
+  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+    std::error_code type_error;
+    if (entry.is_directory(type_error) && !entry.is_symlink(type_error)) continue;
+    if (!IsRegistrationPictureName(entry.path().filename().string())) continue;
+    std::error_code remove_error;
+    std::filesystem::remove(entry.path(), remove_error);
+    if (remove_error) {
+      throw MakeInputError(entry.path().string(), "cannot remove the picture of an earlier run (" +
+                                                      remove_error.message() + ")");
+    }
+  }
   std::vector<std::string> written;
   auto write = [&](const std::string& name, const cv::Mat& image) {
     const std::string path = (std::filesystem::path(dir) / name).string();

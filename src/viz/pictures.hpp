@@ -40,8 +40,14 @@ cv::Mat DrawVerification(const Scan& source, const Scan& target, const Registrat
 cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,
                        int view, int max_candidates);
 
+// Whether `file_name` is one WriteRegistrationPictures writes ("registered-view0.png",
+// "correspondences-view0-2.png", ...; .jpg accepted too).
+bool IsRegistrationPictureName(const std::string& file_name);
+
 // Writes the pictures above for every view pair into `dir` (created if needed) and returns the
-// file paths. Throws InputError if the folder cannot be written.
+// file paths. Pictures of an earlier run in `dir` (IsRegistrationPictureName) are removed first, so
+// that the folder shows this result only; other files are left alone. Throws InputError if the
+// folder cannot be written.
 // `verify` is the check's config (the pipeline's effective `verify` section).
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
