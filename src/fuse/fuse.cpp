@@ -1,5 +1,7 @@
 #include "fuse/fuse.hpp"
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -8,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
+#include <set>
 #include <sstream>
 
 #include "io/image_codec.hpp"
@@ -63,16 +66,38 @@ class TsdfVolume {
   void* volume_;
 };
 
+// Everything a fragment is made from: the settings, the depth scale the frames are read with and,
+// per input file, its size and modification time (a frame replaced or edited in place changes
+// them), so that a cached fragment is reused only for the very same inputs.
 nlohmann::json FuseKey(const Dataset& dataset, const std::vector<int>& frame_ids,
                        const FuseConfig& c) {
+  nlohmann::json files = nlohmann::json::array();
+  std::set<std::string> seen;
+  for (const int id : frame_ids) {
+    for (const std::string& file : dataset.FrameFiles(id)) {
+      if (!seen.insert(file).second) continue;
+      struct stat info {};
+      if (::stat(file.c_str(), &info) != 0) {
+        files.push_back(
+            {{"file", fs::absolute(file).lexically_normal().string()}, {"absent", true}});
+        continue;
+      }
+      files.push_back({{"file", fs::absolute(file).lexically_normal().string()},
+                       {"size", static_cast<long long>(info.st_size)},
+                       {"mtime_ns", static_cast<long long>(info.st_mtim.tv_sec) * 1000000000LL +
+                                        info.st_mtim.tv_nsec}});
+    }
+  }
   return {{"dataset", fs::absolute(dataset.root()).lexically_normal().string()},
           {"frames", frame_ids},
+          {"depth_scale", dataset.depth_scale()},
           {"voxel_length_m", c.voxel_length_m},
           {"sdf_trunc_m", c.sdf_trunc_m},
           {"max_depth_m", c.max_depth_m},
           {"output_voxel_m", c.output_voxel_m},
           {"num_views", c.num_views},
-          {"format_version", 1}};
+          {"files", files},
+          {"format_version", 2}};
 }
 
 }  // namespace
@@ -122,12 +147,19 @@ bool FuseFragment(const Dataset& dataset, const std::vector<int>& frame_ids,
   CheckFuseConfig(config);
   const nlohmann::json key = FuseKey(dataset, frame_ids, config);
   const fs::path dir(out_dir), key_path = dir / "fuse.json";
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec)) {
+    throw MakeInputError(out_dir,
+                         "exists and is not a folder; expected a folder for the fragment "
+                         "(scan.json, cloud.ply, views) or a new name");
+  }
   if (fs::exists(key_path) && fs::exists(dir / "scan.json") && fs::exists(dir / "cloud.ply")) {
     std::ifstream in(key_path);
     nlohmann::json cached = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
     if (cached == key) return false;
   }
-  fs::create_directories(dir);
+  fs::create_directories(dir, ec);
+  if (ec) throw MakeInputError(out_dir, "cannot create the fragment folder (" + ec.message() + ")");
 
   TsdfVolume volume(config.voxel_length_m, config.sdf_trunc_m);
   const std::vector<int> view_ids = ChooseViewFrames(frame_ids, config.num_views);
