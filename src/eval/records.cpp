@@ -223,8 +223,10 @@ PairRecord PairRecordFromJson(const json& j, const std::string& where) {
   return r;
 }
 
-std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line) {
+std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line,
+                                       int* superseded) {
   if (dropped_last_line) *dropped_last_line = false;
+  if (superseded) *superseded = 0;
   std::ifstream in(path);
   if (!in) return {};
   std::vector<std::string> lines;
@@ -251,6 +253,7 @@ std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_la
       records.push_back(std::move(r));
     } else {
       records[it->second] = std::move(r);
+      if (superseded) ++*superseded;
     }
   }
   return records;

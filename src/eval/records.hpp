@@ -115,10 +115,12 @@ nlohmann::json PairRecordToJson(const PairRecord& record);
 // Throws InputError naming `where` when a field is missing or has the wrong type.
 PairRecord PairRecordFromJson(const nlohmann::json& json, const std::string& where);
 
-// Reads a pairs.jsonl file: one record per line, later lines win for the same key. A missing file
-// gives no records. A truncated last line (a run killed while writing) is ignored and reported in
+// Reads a pairs.jsonl file: one record per line, later lines win for the same key (in the place
+// of its first line); `*superseded` counts the lines a later one replaced. A missing file gives no
+// records. A truncated last line (a run killed while writing) is ignored and reported in
 // `*dropped_last_line`; any other malformed line throws InputError naming the file and line.
-std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line = nullptr);
+std::vector<PairRecord> ReadPairsJsonl(const std::string& path, bool* dropped_last_line = nullptr,
+                                       int* superseded = nullptr);
 // Rewrites `path` with exactly `records`, one line each.
 void WritePairsJsonl(const std::string& path, const std::vector<PairRecord>& records);
 

@@ -161,21 +161,25 @@ PairRecord ErrorRecord(const PairTask& task, const std::string& method, const st
 
 // Several jobs append in finishing order, and a retried error or a run resumed after a kill adds
 // its records at the end; the finished file is put in task order, so that it does not depend on
-// the job count or on the run's history. Records of other tasks (an earlier run's larger
-// --limit) keep their order after these; a superseded error record stays before its retry.
+// the job count or on the run's history. Each key keeps one line, its latest record (a retry
+// supersedes the error it re-ran; a line written twice counts once). Records of other tasks (an
+// earlier run's larger --limit) keep their order after these.
 void RewriteInTaskOrder(const std::vector<PairTask>& tasks, const std::string& jsonl_path,
                         std::vector<PairRecord>* records) {
-  std::map<std::string, size_t> task_index;
+  std::map<std::string, size_t> task_index, last_line;
   for (size_t k = 0; k < tasks.size(); ++k) task_index.emplace(tasks[k].Key(), k);
+  for (size_t line = 0; line < records->size(); ++line) last_line[(*records)[line].key] = line;
   std::vector<std::pair<size_t, size_t>> order;  // (task index, line), sorted = the new order
   for (size_t line = 0; line < records->size(); ++line) {
-    const auto it = task_index.find((*records)[line].key);
+    const std::string& key = (*records)[line].key;
+    if (last_line[key] != line) continue;  // superseded by a later line
+    const auto it = task_index.find(key);
     order.emplace_back(it == task_index.end() ? tasks.size() : it->second, line);
   }
-  if (std::is_sorted(order.begin(), order.end())) return;
+  if (order.size() == records->size() && std::is_sorted(order.begin(), order.end())) return;
   std::sort(order.begin(), order.end());
   std::vector<PairRecord> sorted;
-  sorted.reserve(records->size());
+  sorted.reserve(order.size());
   for (const auto& [task, line] : order) sorted.push_back(std::move((*records)[line]));
   *records = std::move(sorted);
   WritePairsJsonl(jsonl_path, *records);
@@ -189,13 +193,18 @@ std::vector<PairRecord> RunPairs(const std::vector<PairTask>& tasks, const std::
                                  RunStats* stats) {
   RunStats local;
   bool dropped = false;
-  std::vector<PairRecord> existing = ReadPairsJsonl(jsonl_path, &dropped);
+  int superseded = 0;
+  std::vector<PairRecord> existing = ReadPairsJsonl(jsonl_path, &dropped, &superseded);
   if (dropped) {
     // A run was killed mid-line: rewrite the file without the partial line before appending.
     std::fprintf(stderr, "%s: dropping a truncated last line (interrupted run)\n",
                  jsonl_path.c_str());
-    WritePairsJsonl(jsonl_path, existing);
   }
+  if (superseded > 0) {
+    std::fprintf(stderr, "%s: keeping one line per pair (%d lines repeated a pair)\n",
+                 jsonl_path.c_str(), superseded);
+  }
+  if (dropped || superseded > 0) WritePairsJsonl(jsonl_path, existing);
   std::set<std::string> done;
   for (const PairRecord& r : existing) {
     if (r.error.empty()) done.insert(r.key);

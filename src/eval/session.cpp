@@ -165,6 +165,36 @@ EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
   return s;
 }
 
+namespace {
+
+// `eval merge --out` writes run.json, pairs.jsonl and the summary: over a folder holding another
+// run's results it would replace them (a complete run by a partial merge). Allowed: a new or empty
+// folder, or an earlier merge of the same run (made again when more shards have finished).
+void RefuseOtherResults(const std::string& out_dir, const RunInfo& merged) {
+  const fs::path dir(out_dir);
+  std::error_code ec;
+  bool holds_results = false;
+  for (const char* name : {"run.json", "pairs.jsonl", "summary.json", "summary.md"}) {
+    holds_results = holds_results || fs::exists(fs::symlink_status(dir / name, ec));
+  }
+  if (!holds_results) return;
+  if (fs::exists(dir / "run.json", ec)) {
+    const RunInfo previous = ReadRunInfo(out_dir);
+    if (previous.shard == "merged" && previous.protocol == merged.protocol &&
+        previous.method == merged.method &&
+        ResultSettings(previous.settings) == ResultSettings(merged.settings) &&
+        RunInfoToJson(previous)["pairs"] == RunInfoToJson(merged)["pairs"]) {
+      return;
+    }
+  }
+  throw MakeInputError("--out " + out_dir,
+                       "holds the results of another run (run.json, pairs.jsonl or a summary), "
+                       "which the merge would replace; expected a new or empty folder, or an "
+                       "earlier merge of the same shards");
+}
+
+}  // namespace
+
 EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& out_dir,
                       int* missing) {
   if (dirs.empty()) throw MakeInputError("zeroreg eval merge", "no results folders given");
@@ -205,6 +235,7 @@ EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& o
     }
   }
   if (missing) *missing = absent;
+  RefuseOtherResults(out_dir, merged);
   merged.shard = "merged";
   merged.command = "zeroreg eval merge";
   for (const std::string& d : dirs) merged.command += " " + d;

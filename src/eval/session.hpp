@@ -66,6 +66,8 @@ EvalSummary WriteSummary(const std::string& out_dir, const RunInfo& info,
 // Merges shard folders: all must have the same protocol, method, settings and selection. Writes
 // `out_dir`/pairs.jsonl (selection order), run.json (shard "merged") and the summary. Pairs found
 // in no folder are reported (`*missing`) and count as in WriteSummary (failures for the recall).
+// `out_dir` must be new, empty or an earlier merge of the same run: a folder holding another run's
+// results is refused (InputError naming it), never replaced.
 EvalSummary MergeRuns(const std::vector<std::string>& dirs, const std::string& out_dir,
                       int* missing = nullptr);
 

@@ -267,6 +267,68 @@ TEST_F(EvalRunner, ResultsFolderRefusesAnotherMethodOrConfig) {
   EXPECT_NO_THROW(MergeRuns({out, out3}, (dir_ / "m3").string()));
 }
 
+// A line written twice (a copy, an interrupted rewrite) is one record after a resume: the file
+// holds one line per pair, in task order.
+TEST_F(EvalRunner, DuplicatedLineIsOneRecordAfterAResume) {
+  const std::vector<PairTask> tasks = Tasks(4);
+  Run(tasks, "r");
+  const std::string path = (dir_ / "r" / "pairs.jsonl").string();
+  std::vector<std::string> lines;
+  {
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+  }
+  ASSERT_EQ(lines.size(), 4u);
+  {
+    std::ofstream out(path, std::ios::app);
+    out << lines[1] << "\n";
+  }
+  RunStats stats;
+  const auto records = Run(tasks, "r", 1, &stats);
+  EXPECT_EQ(stats.ran, 0);
+  EXPECT_EQ(records.size(), 4u);
+  std::vector<std::string> after;
+  {
+    std::ifstream in(path);
+    for (std::string line; std::getline(in, line);) after.push_back(line);
+  }
+  EXPECT_EQ(after, lines);
+}
+
+// `eval merge --out` onto a folder that holds another run's results is refused and leaves it as
+// it was; a merge of the same run may be made again.
+TEST_F(EvalRunner, MergeOntoAnotherRunIsRefused) {
+  const std::vector<PairTask> tasks = Tasks(6);
+  const std::string full = (dir_ / "full").string();
+  static_cast<void>(PrepareOutDir(full, Info(tasks)));  // lock released at once
+  WriteSummary(full, Info(tasks), tasks, Run(tasks, "full"));
+  const std::string records = (dir_ / "full" / "pairs.jsonl").string();
+  const std::vector<PairRecord> before = ReadPairsJsonl(records);
+
+  const std::vector<PairTask> few = Tasks(2);
+  const std::string shard = (dir_ / "few").string();
+  static_cast<void>(PrepareOutDir(shard, Info(few)));
+  WriteSummary(shard, Info(few), few, Run(few, "few"));
+  try {
+    MergeRuns({shard}, full);
+    FAIL() << "merged over another run";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(full), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(ReadPairsJsonl(records).size(), before.size());
+  // A folder holding only pairs.jsonl (no run.json) is results too.
+  const std::string bare = (dir_ / "bare").string();
+  fs::create_directories(bare);
+  WritePairsJsonl(bare + "/pairs.jsonl", before);
+  EXPECT_THROW(MergeRuns({shard}, bare), InputError);
+  EXPECT_EQ(ReadPairsJsonl(bare + "/pairs.jsonl").size(), before.size());
+  // Merging again into the merge of the same run, or into an empty folder, is fine.
+  const std::string merged = (dir_ / "merged").string();
+  fs::create_directories(merged);
+  EXPECT_NO_THROW(MergeRuns({shard}, merged));
+  EXPECT_NO_THROW(MergeRuns({shard}, merged));
+}
+
 TEST_F(EvalRunner, RunJsonNamesTheZeroregVersion) {
   const std::string out = (dir_ / "v").string();
   static_cast<void>(PrepareOutDir(out, Info(Tasks(1))));  // lock released at once
