@@ -1,7 +1,10 @@
 #include "inference/graph_cache.hpp"
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <cstdlib>
@@ -47,6 +50,81 @@ std::string ReadFirstLine(const std::string& path) {
 }
 
 std::atomic<unsigned> g_scratch_counter{0};
+
+constexpr size_t kSecretBytes = 32;
+
+// The per-user secret that signs the entries of `directory`: <directory>/.hmac-key-<uid>, 32
+// random bytes, a regular file (not a link) of this user that nobody else may read or write.
+// Anyone else who can write the directory can replace a graph and its check line, but cannot make
+// a check line that verifies without this secret. With `create`, a missing secret is made (by one
+// process: the file appears whole through link(2), which refuses to replace one another process
+// made meanwhile). nullopt when there is none, or it is not trustworthy.
+std::optional<std::string> CacheSecret(const fs::path& directory, bool create) {
+  const fs::path path = directory / (".hmac-key-" + std::to_string(::geteuid()));
+  const auto read_secret = [&]() -> std::optional<std::string> {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return std::nullopt;
+    struct stat info {};
+    std::string secret(kSecretBytes, '\0');
+    const bool trusted = ::fstat(fd, &info) == 0 && S_ISREG(info.st_mode) &&
+                         info.st_uid == ::geteuid() && (info.st_mode & 077) == 0 &&
+                         info.st_size == static_cast<off_t>(kSecretBytes) &&
+                         ::read(fd, &secret[0], kSecretBytes) == static_cast<ssize_t>(kSecretBytes);
+    ::close(fd);
+    if (!trusted) return std::nullopt;
+    return secret;
+  };
+  if (std::optional<std::string> secret = read_secret()) return secret;
+  std::error_code error;
+  if (!create || fs::exists(fs::symlink_status(path, error))) return std::nullopt;
+  std::string secret(kSecretBytes, '\0');
+  {
+    std::ifstream random("/dev/urandom", std::ios::binary);
+    if (!random.read(&secret[0], kSecretBytes)) return std::nullopt;
+  }
+  const std::string scratch = path.string() + ".tmp-" + std::to_string(getpid()) + "-" +
+                              std::to_string(g_scratch_counter++);
+  const int fd =
+      ::open(scratch.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+  if (fd < 0) return std::nullopt;
+  const bool written =
+      ::write(fd, secret.data(), kSecretBytes) == static_cast<ssize_t>(kSecretBytes);
+  ::close(fd);
+  const bool linked = written && ::link(scratch.c_str(), path.c_str()) == 0;
+  ::unlink(scratch.c_str());
+  if (linked) return secret;
+  return read_secret();  // another process made it first
+}
+
+// HMAC-SHA256 (RFC 2104) of `message` under `secret` (at most one block), as hex digits.
+std::string HmacSha256Hex(const std::string& secret, const std::string& binding,
+                          const std::vector<char>& message) {
+  std::string block(64, '\0');
+  std::copy(secret.begin(), secret.end(), block.begin());
+  std::string inner_pad(block), outer_pad(block);
+  for (char& c : inner_pad) c = static_cast<char>(c ^ 0x36);
+  for (char& c : outer_pad) c = static_cast<char>(c ^ 0x5c);
+  detail::Sha256 inner;
+  inner.Update(inner_pad);
+  inner.Update(binding);
+  inner.Update(message.data(), message.size());
+  const std::string inner_hex = inner.HexDigest();
+  std::string inner_bytes;
+  for (size_t i = 0; i + 1 < inner_hex.size(); i += 2) {
+    inner_bytes.push_back(static_cast<char>(std::stoi(inner_hex.substr(i, 2), nullptr, 16)));
+  }
+  detail::Sha256 outer;
+  outer.Update(outer_pad);
+  outer.Update(inner_bytes);
+  return outer.HexDigest();
+}
+
+// What a check line signs besides the graph: the entry's whole key (the verified model's sha256,
+// the runtime version, the optimisation level, the CPU), so that a graph made for another model or
+// runtime, copied under this entry's name with its check line, does not verify either.
+std::string Binding(const GraphCacheEntry& entry) {
+  return "zeroreg-graph-cache-1;" + entry.key + ";";
+}
 
 }  // namespace
 
@@ -104,20 +182,22 @@ GraphCacheEntry GraphCacheEntryFor(const std::string& directory, const std::stri
   const std::string name = fs::path(model_path).stem().string() + "-" + key.substr(0, 16);
   GraphCacheEntry entry;
   entry.graph_path = (fs::path(directory) / (name + ".onnx")).string();
-  entry.digest_path = entry.graph_path + ".sha256";
+  entry.digest_path = entry.graph_path + ".hmac";
+  entry.key = key;
   return entry;
 }
 
 std::optional<std::vector<char>> ReadValidGraph(const GraphCacheEntry& entry) {
   const std::string expected = ReadFirstLine(entry.digest_path);
   if (expected.size() != 64) return std::nullopt;
+  const std::optional<std::string> secret =
+      CacheSecret(fs::path(entry.graph_path).parent_path(), /*create=*/false);
+  if (!secret) return std::nullopt;
   std::ifstream in(entry.graph_path, std::ios::binary);
   if (!in) return std::nullopt;
   std::optional<std::vector<char>> bytes = ReadAllBytes<char>(in);
   if (!bytes) return std::nullopt;
-  detail::Sha256 hash;
-  hash.Update(bytes->data(), bytes->size());
-  if (hash.HexDigest() != expected) return std::nullopt;
+  if (HmacSha256Hex(*secret, Binding(entry), *bytes) != expected) return std::nullopt;
   return bytes;
 }
 
@@ -140,12 +220,16 @@ bool CommitGraphCacheEntry(const GraphCacheEntry& entry, const std::string& scra
     fs::remove(path, error);
     return false;
   };
-  std::string digest;
-  try {
-    digest = Sha256OfFile(scratch_path);
-  } catch (const std::exception&) {
-    return discard(scratch_path);  // the runtime did not write it
+  std::optional<std::vector<char>> bytes;
+  {
+    std::ifstream in(scratch_path, std::ios::binary);
+    if (in) bytes = ReadAllBytes<char>(in);
   }
+  if (!bytes || bytes->empty()) return discard(scratch_path);  // the runtime did not write it
+  const std::optional<std::string> secret =
+      CacheSecret(fs::path(entry.graph_path).parent_path(), /*create=*/true);
+  if (!secret) return discard(scratch_path);
+  const std::string digest = HmacSha256Hex(*secret, Binding(entry), *bytes);
   fs::rename(scratch_path, entry.graph_path, error);
   if (error) return discard(scratch_path);
   const std::string digest_scratch = scratch_path + ".sha256";

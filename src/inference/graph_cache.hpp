@@ -28,9 +28,14 @@ std::string CpuSignature();
 
 // One entry of the cache: where the optimised graph of a model file is (or will be) kept.
 struct GraphCacheEntry {
-  std::string graph_path;   // the optimised ONNX graph
-  std::string digest_path;  // its sha256, written after it: a graph without a matching digest is
-                            // never loaded (a crash mid-write, another program's file)
+  std::string graph_path;  // the optimised ONNX graph
+  // Its check line, written after it: HMAC-SHA256 of the entry's key and the graph under a secret
+  // of this user kept in the directory (.hmac-key-<uid>, mode 0600). A graph without a matching
+  // check line is never loaded: a crash mid-write, another program's file, a graph altered by
+  // anyone without the secret (a digest beside it is no proof: whoever alters the graph can
+  // recompute it).
+  std::string digest_path;
+  std::string key;  // sha256 of (verified model sha256, runtime version, level, CPU), hex
 };
 
 // The entry for `model_path` in `directory`: the file name is the model's stem and the first 16
@@ -39,9 +44,9 @@ struct GraphCacheEntry {
 GraphCacheEntry GraphCacheEntryFor(const std::string& directory, const std::string& model_path,
                                    const std::string& runtime_version);
 
-// The entry's graph, read once, when it exists and its sha256 equals the digest file's; nullopt
-// otherwise. The caller loads these very bytes (not the file again, which another process may have
-// replaced meanwhile).
+// The entry's graph, read once, when it exists and its check line verifies under this user's
+// secret; nullopt otherwise. The caller loads these very bytes (not the file again, which another
+// process may have replaced meanwhile).
 std::optional<std::vector<char>> ReadValidGraph(const GraphCacheEntry& entry);
 
 // Whether ReadValidGraph would return the graph.

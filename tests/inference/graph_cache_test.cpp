@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "assets/assets_internal.hpp"
+#include "assets/sha256.hpp"
 #include "detect/backends.hpp"
 #include "detect/perception_test_util.hpp"
 #include "features/xfeat_extractor.hpp"
@@ -98,7 +99,7 @@ TEST(GraphCache, EntryIsKeyedToTheModelBytesNotItsPath) {
             a.graph_path);
   EXPECT_NE(GraphCacheEntryFor(cache, dir.str() + "/a/model.onnx", "1.2.4").graph_path,
             a.graph_path);
-  EXPECT_EQ(a.digest_path, a.graph_path + ".sha256");
+  EXPECT_EQ(a.digest_path, a.graph_path + ".hmac");
   EXPECT_FALSE(CpuSignature().empty());
   EXPECT_EQ(CpuSignature(), CpuSignature());
 }
@@ -139,6 +140,37 @@ TEST(GraphCache, CommittedEntryIsValidUntilDamaged) {
   EXPECT_FALSE(GraphCacheEntryValid(entry));
   // Nothing written by the runtime: no entry, no leftovers.
   EXPECT_FALSE(CommitGraphCacheEntry(entry, *scratch));
+}
+
+// The digest beside a graph is not enough: a graph altered by someone else, with its sha256
+// recomputed, or another model's graph copied under this entry's name, is never loaded.
+TEST(GraphCache, TamperedGraphWithARecomputedDigestIsNotLoaded) {
+  TempDir dir("graph_tampered");
+  WriteFile(dir.str() + "/model.onnx", "model");
+  WriteFile(dir.str() + "/other.onnx", "another model");
+  const std::string cache = dir.str() + "/cache";
+  const GraphCacheEntry entry = GraphCacheEntryFor(cache, dir.str() + "/model.onnx", "1");
+  const std::optional<std::string> scratch = GraphCacheScratchPath(entry);
+  ASSERT_TRUE(scratch.has_value());
+  WriteFile(*scratch, "optimised graph");
+  ASSERT_TRUE(CommitGraphCacheEntry(entry, *scratch));
+  ASSERT_TRUE(GraphCacheEntryValid(entry));
+
+  WriteFile(entry.graph_path, "optimised graph with altered weights");
+  WriteFile(entry.digest_path, detail::Sha256Hex("optimised graph with altered weights") + "\n");
+  EXPECT_FALSE(GraphCacheEntryValid(entry));
+  EXPECT_FALSE(ReadValidGraph(entry).has_value());
+
+  // Another model's graph and check line, copied under this entry's name.
+  const GraphCacheEntry other = GraphCacheEntryFor(cache, dir.str() + "/other.onnx", "1");
+  const std::optional<std::string> other_scratch = GraphCacheScratchPath(other);
+  ASSERT_TRUE(other_scratch.has_value());
+  WriteFile(*other_scratch, "other graph");
+  ASSERT_TRUE(CommitGraphCacheEntry(other, *other_scratch));
+  ASSERT_TRUE(GraphCacheEntryValid(other));
+  fs::copy_file(other.graph_path, entry.graph_path, fs::copy_options::overwrite_existing);
+  fs::copy_file(other.digest_path, entry.digest_path, fs::copy_options::overwrite_existing);
+  EXPECT_FALSE(GraphCacheEntryValid(entry));
 }
 
 TEST(GraphCache, UnwritableDirectoryGivesNoScratchPath) {
