@@ -38,6 +38,11 @@ Runner AddReportCommand(CLI::App& app) {
         o->out.empty() ? (std::filesystem::path(o->dir) / "report.html").string() : o->out;
     WriteReport(o->dir, out, o->config);
     std::error_code ec;
+    if (!std::filesystem::is_regular_file(out, ec)) {
+      // Written into a device or a pipe (--out /dev/stdout): the page alone goes there.
+      std::fprintf(stderr, "report written to %s\n", out.c_str());
+      return kExitOk;
+    }
     const auto bytes = std::filesystem::file_size(out, ec);
     std::printf("report written to %s (%.1f MB)\n", out.c_str(), ec ? 0.0 : bytes / 1e6);
     return kExitOk;

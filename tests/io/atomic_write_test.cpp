@@ -4,6 +4,7 @@
 // a link to one) is written through, never renamed over; a link to a regular file keeps the link.
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -66,6 +67,18 @@ TEST(AtomicWrite, LinkToADeviceStaysALink) {
   detail::WriteFileAtomically(link, "discarded\n");
   EXPECT_TRUE(fs::is_symlink(fs::symlink_status(link))) << "the link was replaced by a file";
   EXPECT_TRUE(fs::is_character_file(fs::status("/dev/null")));
+}
+
+// A device node itself (a second node of the null device, made in the test's folder): written
+// into, still a device afterwards.
+TEST(AtomicWrite, DeviceNodeIsWrittenThroughNotRenamedOver) {
+  TempDir dir;
+  const std::string node = dir.File("null");
+  if (::mknod(node.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0) {
+    GTEST_SKIP() << "cannot make a device node here (not root)";
+  }
+  detail::WriteFileAtomically(node, "discarded\n");
+  EXPECT_TRUE(fs::is_character_file(fs::symlink_status(node))) << "the device node was replaced";
 }
 
 // A link to a regular file keeps being the link; the file it names gets the text (atomically).
