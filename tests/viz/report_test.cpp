@@ -467,6 +467,14 @@ TEST(ReportOutput, OutNamingAResultsFileIsRefused) {
   EXPECT_EQ(testing::RunCli("report '" + dir.string() + "' --out '" + page + "'").exit_code, 0);
   const auto again = testing::RunCli("report '" + dir.string() + "' --out '" + page + "'");
   EXPECT_EQ(again.exit_code, 0) << again.output;
+  // --out /dev/stdout, through a link to it (a regression would replace the link, not the
+  // machine's /dev/stdout): the page comes out on stdout and the link stays.
+  fs::create_symlink("/dev/stdout", dir / "stdout");
+  const auto piped =
+      testing::RunCli("report '" + dir.string() + "' --out '" + (dir / "stdout").string() + "'");
+  EXPECT_EQ(piped.exit_code, 0) << piped.output;
+  EXPECT_EQ(piped.output.rfind("<!DOCTYPE html>", 0), 0u) << piped.output.substr(0, 200);
+  EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "stdout")));
   fs::remove_all(dir);
 }
 
