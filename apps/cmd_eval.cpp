@@ -324,6 +324,7 @@ int RunMatch(const MatchOptions& o) {
   fragments.fuse = o.fuse;
   fragments.cache_dir = o.cache;
   fragments.scene = o.scene;
+  fragments.depth_scale = o.depth_scale;
 
   std::vector<PairTask> tasks;
   for (const std::string& b : ParseBenchmarks(o.benchmarks)) {
@@ -351,6 +352,8 @@ int RunMatch(const MatchOptions& o) {
                            {"sdf_trunc_m", o.fuse.sdf_trunc_m},
                            {"max_depth_m", o.fuse.max_depth_m},
                            {"output_voxel_m", o.fuse.output_voxel_m}};
+  // The fragments depend on it; recorded only when given, so folders of the default still resume.
+  if (o.depth_scale != 0.0) info.settings["fuse"]["depth_scale"] = o.depth_scale;
   info.tasks = Select(tasks, o.common);
   info.shard = o.common.shard;
   info.command = CommandLine();

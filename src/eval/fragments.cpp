@@ -51,6 +51,11 @@ std::string FragmentSource::Dir(int k) const {
     std::snprintf(voxel, sizeof(voxel), "voxel-%gmm", fuse.voxel_length_m * 1000.0);
     tag += (tag.empty() ? "" : "-") + std::string(voxel);
   }
+  if (depth_scale != 0.0) {
+    char scale[48];
+    std::snprintf(scale, sizeof(scale), "depth-scale-%g", depth_scale);
+    tag += (tag.empty() ? "" : "-") + std::string(scale);
+  }
   if (!tag.empty()) dir /= tag;
   return (dir / ("fragment-" + std::to_string(k))).string();
 }

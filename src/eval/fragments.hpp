@@ -17,10 +17,12 @@ struct FragmentSource {
   FuseConfig fuse;               // fuse.num_views = the paper's "views" (Table 5)
   std::string cache_dir = "cache/fragments";
   std::string scene = "7-scenes-redkitchen";
+  double depth_scale = 0.0;  // --depth-scale as given (0 = the layout's), for the cache folder
 
   // <cache_dir>/<scene>/fragment-k with the default fusion settings; otherwise
-  // <cache_dir>/<scene>/<tag>/fragment-k, tag e.g. "views-1" or "voxel-40mm", so that Table 5's
-  // three settings (or a coarse CI fusion) do not evict each other's cache.
+  // <cache_dir>/<scene>/<tag>/fragment-k, tag e.g. "views-1", "voxel-40mm" or "depth-scale-5000",
+  // so that Table 5's three settings (or a coarse CI fusion) do not evict each other's cache. (The
+  // fragment's fuse.json decides reuse: it holds every input, see FuseFragment.)
   std::string Dir(int k) const;
   std::string ScanJson(int k) const { return Dir(k) + "/scan.json"; }
 };

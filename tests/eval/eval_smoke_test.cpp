@@ -293,6 +293,14 @@ TEST_F(EvalSmoke, ThreeDMatchFusesOnlyNeededFragmentsAndScoresLikeTheGroundTruth
     EXPECT_TRUE(fs::exists(Cache() + "/7-scenes-redkitchen/voxel-40mm/fragment-" +
                            std::to_string(k) + "/scan.json"));
   }
+  // Another depth scale makes other fragments: the folder refuses to resume with it.
+  const auto other_scale = RunCli("eval 3dmatch --data '" + RedkitchenDir() + "' --gt '" +
+                                  GtRoot() + "' --cache '" + Cache() +
+                                  "' --fuse-voxel 0.04 --depth-scale 2000 --limit 2 --features "
+                                  "sift --no-progress --out '" +
+                                  out + "'");
+  EXPECT_EQ(other_scale.exit_code, 2) << other_scale.output;
+  EXPECT_EQ(ReadPairsJsonl(out + "/pairs.jsonl").size(), 2u);
 }
 
 // The TUM cabinet is a box: from 8 frames apart, 10 -> 18 comes back valid and turned 89 deg

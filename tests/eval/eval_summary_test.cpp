@@ -469,6 +469,12 @@ TEST(EvalFragments, CacheFolderNamesTheNonDefaultFusionSettings) {
   EXPECT_EQ(f.ScanJson(0), "c/s/views-1/fragment-0/scan.json");
   f.fuse.voxel_length_m = 0.04;
   EXPECT_EQ(f.Dir(0), "c/s/views-1-voxel-40mm/fragment-0");
+  // A depth scale given on the command line: its fragments do not evict the layout's.
+  f = FragmentSource();
+  f.cache_dir = "c";
+  f.scene = "s";
+  f.depth_scale = 5000;
+  EXPECT_EQ(f.Dir(2), "c/s/depth-scale-5000/fragment-2");
 }
 
 }  // namespace
