@@ -21,9 +21,9 @@ word="ses""sion"
 ordinals="fourth|fifth|sixth|seventh|eighth|ninth|tenth|eleventh|twelfth|[a-z]+teenth|twentieth"
 ordinals+="|twenty-[a-z]+|thirtieth|thirty-[a-z]+|[0-9]+(st|nd|rd|th)"
 pattern="(${ordinals}) ${word}|since issue [0-9]+"
-# "second / third / this / previous" only in the work-log sense ("this session's build", "in the
-# third session", "(second session)"): recordings made in several sessions are what `zeroreg
-# merge` is about ("a second session may be darker"), and stay free to name.
+# "second", "third", "this" and "previous" count only in the work-log sense (after "the", "this"
+# or an opening parenthesis or comma, as in a label): recordings made on several occasions are
+# what `zeroreg merge` is about ("a second one may be darker"), and stay free to name.
 relative="(this|previous|the (second|third)|[(,] ?(second|third)) ${word}"
 
 matches="$(git -C "$repo" grep -n -I -i -E -e "$pattern" -e "$relative" -- . ':(exclude)CHANGELOG.md' \
