@@ -1,4 +1,4 @@
-// A per-user cache of ONNX Runtime's optimised graphs (inference.graph_cache, issue 13).
+// A per-user cache of ONNX Runtime's optimised graphs (inference.graph_cache).
 //
 // Creating an ONNX Runtime session with ORT_ENABLE_ALL spends most of its time optimising the graph
 // (fusions, constant folding, NCHWc layouts): 85-115 ms of XFeat's session creation on the 2-core
