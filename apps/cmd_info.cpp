@@ -26,8 +26,10 @@ struct InfoOptions {
   ConfigOptions config;
 };
 
-// Which engine runs the models, and why: the line a bug report about inference needs first.
-void PrintInferenceEngine(const InferenceConfig& inference) {
+// Which engine runs the models, and why: the line a bug report about inference needs first. False
+// when the config names no engine this build has (bad input, printed rather than thrown so that
+// the rest of the report still prints).
+bool PrintInferenceEngine(const InferenceConfig& inference) {
   const std::string opencv = std::string("OpenCV ") + CV_VERSION + " DNN";
   const std::string ort_version = OnnxRuntimeVersion();
   const std::string ort_library = OnnxRuntimeLibraryPath();
@@ -36,6 +38,7 @@ void PrintInferenceEngine(const InferenceConfig& inference) {
           ? "ONNX Runtime " + ort_version + ", " +
                 (ort_library.empty() ? "library path unknown" : ort_library)
           : std::string("not in this build (CMake ZEROREG_WITH_ONNXRUNTIME; docs/INSTALL.md)");
+  bool resolved = true;
   try {
     const InferenceEngine engine = ResolveEngine(inference);
     std::string why;
@@ -48,9 +51,11 @@ void PrintInferenceEngine(const InferenceConfig& inference) {
     std::printf("inference engine: %s (%s)\n", EngineName(engine).c_str(), why.c_str());
   } catch (const InputError& e) {
     std::printf("inference engine: NONE: %s\n", e.what());
+    resolved = false;
   }
   std::printf("  onnxruntime: %s\n", ort.c_str());
   std::printf("  opencv: %s (in every build: the fallback engine)\n", opencv.c_str());
+  return resolved;
 }
 
 // Every file of the assets folder's sha256 list, checked as a registration checks the models it
@@ -101,7 +106,7 @@ Runner AddInfoCommand(CLI::App& app) {
     const PipelineConfig config = BuildConfig(o->config);
     // What a bug report needs, in the order a reader checks it; the effective config last.
     std::printf("zeroreg %s\n", ZEROREG_VERSION);
-    PrintInferenceEngine(config.inference);
+    const bool engine_resolved = PrintInferenceEngine(config.inference);
     // Loaded here only to say where it is; a registration loads it only when it needs it.
     try {
       std::printf("open3d module: %s (loads; needed for FPFH, point cloud files, fusion)\n",
@@ -155,7 +160,7 @@ Runner AddInfoCommand(CLI::App& app) {
       }
     }
     std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
-    return kExitOk;
+    return engine_resolved ? kExitOk : kExitBadInput;
   };
 }
 
