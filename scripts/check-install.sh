@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Proves that zeroreg is usable from outside its build tree (issue 14), on the existing build:
+# Proves that zeroreg is usable from outside its build tree, on the existing build, and that the
+# docs' commands run:
 #  1. runs the code blocks of README's "Use it from your project" as written, in order (bash
 #     blocks with bash, python blocks with the interpreter named on their first line): install
 #     into build/install, build examples/ against it, install the Python package into a fresh
@@ -155,11 +156,11 @@ while IFS=$'\t' read -r what where rest; do
     run)
       block_start=$SECONDS
       case "$rest" in
-        *.bash) PATH="$repo_root/build:$PATH" bash -euo pipefail "$rest" >"$rest.log" 2>&1 ;;
+        *.bash) PATH="$repo_root/build:$PATH" bash -euo pipefail "$rest" </dev/null >"$rest.log" 2>&1 ;;
         *.python)
           read -ra interpreter <<<"$(sed -n '1s/^# *//p' "$rest")"
           [[ ${#interpreter[@]} -gt 0 ]] || { echo "check-install: $where: a python block's first line must name the interpreter" >&2; exit 1; }
-          env "${interpreter[@]}" "$rest" >"$rest.log" 2>&1 ;;
+          env "${interpreter[@]}" "$rest" </dev/null >"$rest.log" 2>&1 ;;
       esac || { echo "check-install: $where failed:" >&2; tail -n 30 "$rest.log" >&2; exit 1; }
       echo "check-install: ran $where in $((SECONDS - block_start)) s" ;;
   esac
