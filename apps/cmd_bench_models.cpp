@@ -1,5 +1,5 @@
-// `zeroreg bench-models`: wall time per image of every ONNX model on each inference engine
-// (issue 11), pre- and post-processing included, median of several runs (docs/PERCEPTION.md).
+// `zeroreg bench-models`: wall time per image of every ONNX model on each inference engine,
+// pre- and post-processing included, median of several runs (docs/PERCEPTION.md).
 #include <algorithm>
 #include <chrono>
 #include <cstdio>

@@ -1,11 +1,14 @@
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <opencv2/core/version.hpp>
 #include <optional>
+#include <sstream>
 
 #include "commands.hpp"
 #include "config_options.hpp"
 #include "estimate/depth_noise.hpp"
-#include "features/xfeat_extractor.hpp"
+#include "inference/onnx_model.hpp"
 #include "io/text_parsing.hpp"
 #include "open3d_module/open3d_module.hpp"
 #include "segment/segmenter.hpp"
@@ -13,6 +16,7 @@
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
+#include "zeroreg/version.hpp"
 
 namespace zeroreg::cli {
 namespace {
@@ -22,6 +26,76 @@ struct InfoOptions {
   ConfigOptions config;
 };
 
+// Which engine runs the models, and why: the line a bug report about inference needs first. False
+// when the config names no engine this build has (bad input, printed rather than thrown so that
+// the rest of the report still prints).
+bool PrintInferenceEngine(const InferenceConfig& inference) {
+  const std::string opencv = std::string("OpenCV ") + CV_VERSION + " DNN";
+  const std::string ort_version = OnnxRuntimeVersion();
+  const std::string ort_library = OnnxRuntimeLibraryPath();
+  const std::string ort =
+      OnnxRuntimeAvailable()
+          ? "ONNX Runtime " + ort_version + ", " +
+                (ort_library.empty() ? "library path unknown" : ort_library)
+          : std::string("not in this build (CMake ZEROREG_WITH_ONNXRUNTIME; docs/INSTALL.md)");
+  bool resolved = true;
+  try {
+    const InferenceEngine engine = ResolveEngine(inference);
+    std::string why;
+    if (inference.engine == "auto") {
+      why = OnnxRuntimeAvailable() ? "inference.engine = auto, and this build links ONNX Runtime"
+                                   : "inference.engine = auto, and this build has no ONNX Runtime";
+    } else {
+      why = "inference.engine = " + inference.engine;
+    }
+    std::printf("inference engine: %s (%s)\n", EngineName(engine).c_str(), why.c_str());
+  } catch (const InputError& e) {
+    std::printf("inference engine: NONE: %s\n", e.what());
+    resolved = false;
+  }
+  std::printf("  onnxruntime: %s\n", ort.c_str());
+  std::printf("  opencv: %s (in every build: the fallback engine)\n", opencv.c_str());
+  return resolved;
+}
+
+// Every file of the assets folder's sha256 list, checked as a registration checks the models it
+// loads; a problem is printed with the fix RequireAsset names, not thrown.
+void PrintAssets(const std::string& assets_dir) {
+  std::string assets;
+  try {
+    assets = ResolveAssetsDir(assets_dir);
+  } catch (const InputError& e) {
+    std::printf("assets: NOT FOUND: %s\n", e.what());
+    return;
+  }
+  std::printf("assets: %s\n", assets.c_str());
+  std::ifstream list(assets + "/assets.sha256");
+  if (!list) {
+    std::printf("  no assets.sha256 in it (bash scripts/fetch-assets.sh writes one)\n");
+    return;
+  }
+  int files = 0, bad = 0;
+  std::string line;
+  while (std::getline(list, line)) {
+    std::istringstream fields(line);
+    std::string digest, file;
+    if (line.empty() || line[0] == '#' || !(fields >> digest >> file)) continue;
+    ++files;
+    try {
+      RequireAsset(assets, file);
+    } catch (const InputError& e) {
+      ++bad;
+      std::printf("  NOT OK %s\n", e.what());
+    }
+  }
+  if (bad == 0) {
+    std::printf("  %d model files, sha256 ok\n", files);
+  } else {
+    std::printf("  %d of %d model files do not verify (bash scripts/fetch-assets.sh)\n", bad,
+                files);
+  }
+}
+
 }  // namespace
 
 Runner AddInfoCommand(CLI::App& app) {
@@ -30,14 +104,9 @@ Runner AddInfoCommand(CLI::App& app) {
   AddConfigOptions(app, &o->config);
   return [o]() {
     const PipelineConfig config = BuildConfig(o->config);
-    std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
-    const std::string assets = ResolveAssetsDir(config.assets_dir);
-    std::printf("assets: %s\n", assets.c_str());
-    // What the launcher (apps/launcher/) or zeroreg-core's own re-execution set up.
-    const char* tuning = std::getenv("ZEROREG_MALLOC_TUNING");
-    const char* tunables = std::getenv("GLIBC_TUNABLES");
-    std::printf("malloc tuning: %s (GLIBC_TUNABLES=%s)\n", tuning ? tuning : "not applied",
-                tunables ? tunables : "");
+    // What a bug report needs, in the order a reader checks it; the effective config last.
+    std::printf("zeroreg %s\n", ZEROREG_VERSION);
+    const bool engine_resolved = PrintInferenceEngine(config.inference);
     // Loaded here only to say where it is; a registration loads it only when it needs it.
     try {
       std::printf("open3d module: %s (loads; needed for FPFH, point cloud files, fusion)\n",
@@ -45,10 +114,12 @@ Runner AddInfoCommand(CLI::App& app) {
     } catch (const InputError& e) {
       std::printf("open3d module: NOT LOADABLE: %s\n", e.what());
     }
-    for (const std::string& file : {XFeatExtractor::ModelFile(config.features, config.inference),
-                                    std::string("yolox_nano_coco/yolox_nano.onnx")}) {
-      std::printf("  %s: %s (sha256 ok)\n", file.c_str(), RequireAsset(assets, file).c_str());
-    }
+    PrintAssets(config.assets_dir);
+    // What the launcher (apps/launcher/) or zeroreg-core's own re-execution set up.
+    const char* tuning = std::getenv("ZEROREG_MALLOC_TUNING");
+    const char* tunables = std::getenv("GLIBC_TUNABLES");
+    std::printf("malloc tuning: %s (GLIBC_TUNABLES=%s)\n", tuning ? tuning : "not applied",
+                tunables ? tunables : "");
     if (!o->scan.empty()) {
       const Scan scan = LoadScan(o->scan);
       std::printf("scan %s: %zu view(s), %zu points, ground truth %s\n", scan.name.c_str(),
@@ -88,7 +159,8 @@ Runner AddInfoCommand(CLI::App& app) {
                     coarser ? " (noisier than 3 mm: ICP samples the coarser grid)" : "");
       }
     }
-    return kExitOk;
+    std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());
+    return engine_resolved ? kExitOk : kExitBadInput;
   };
 }
 

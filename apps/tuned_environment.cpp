@@ -1,9 +1,9 @@
 // Why these settings: a registration allocates and frees a few hundred MB of short-lived buffers
 // (network activations, point clouds, k-d trees). With glibc's defaults every block above the
 // dynamic mmap threshold is a fresh mmap, and the heap grows in 128 KiB steps, all on 4 KiB pages:
-// each run of a model page-faults its working set in again. On the virtual machines measured here a
-// page fault costs microseconds, and faults were a third of a frame pair's process time (XFeat's
-// first run on a 640x480 frame: 84 ms and 9000 faults; 17 ms and 40 faults tuned). The settings
+// each run of a model page-faults its working set in again. On virtual machines a page fault costs
+// microseconds, and faults were a large share of a frame pair's process time (docs/SPEED.md, "Page
+// faults and glibc's malloc"). The settings
 // keep blocks under 32 MiB on the heap (reused after free, not unmapped), grow the heap 64 MiB at a
 // time, and ask the kernel for transparent huge pages on malloc's memory (with THP in its common
 // "madvise" mode the kernel gives them only where asked). glibc reads GLIBC_TUNABLES once, when a
@@ -27,8 +27,8 @@ constexpr const char* kSettings[][2] = {
     {"glibc.malloc.top_pad", "67108864"},         // grow the heap 64 MiB at a time
     // At most two heaps (glibc's default: 8 per core). Each thread that allocates otherwise gets
     // a heap of its own (ONNX Runtime's pool, the two scans' perception, eval's runners), and a
-    // long-lived block (a prepared scan that eval keeps) pins free space around it in every one:
-    // eval over redkitchen-gap60 peaked at 822-950 MiB with 16 heaps, 530-544 MiB with two. The
+    // long-lived block (a prepared scan that eval keeps) pins free space around it in every one,
+    // and eval's peak memory grows with the heaps (docs/SPEED.md, `arena_max`). The
     // heavy allocating work runs at most two ways at once (RunBoth), so two heaps cost no
     // measurable lock wait (docs/SPEED.md).
     {"glibc.malloc.arena_max", "2"},

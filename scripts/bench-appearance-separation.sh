@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# How well the colour appearance descriptor tells right from wrong object matches (issue 11
-# item 3): registers every 12th pair (offset 5) of the redkitchen and hololens lists with the
+# How well the colour appearance descriptor tells right from wrong object matches:
+# registers every 12th pair (offset 5) of the redkitchen and hololens lists with the
 # ensemble detector and a negligible appearance weight (1e-3, so the matching is the one without
 # appearance), then prints, per list, the Bhattacharyya coefficient BC = cos(a_j, a_k) of the
 # matched pairs whose centroids agree within 0.3 m under the ground truth (correct) and of the

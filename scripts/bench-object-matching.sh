@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Object-level matching quality (issue 3) on the redkitchen frame pairs (i, i+20), i = 0..970:
+# Object-level matching quality on the redkitchen frame pairs (i, i+20), i = 0..970:
 # a matched object pair is correct when the two centroids agree within 0.3 m under the ground
 # truth. Prints precision and mean correct matches per pair, with and without the scene graph and
 # CLIP, and the median time of detection, segmentation and object matching per pair.

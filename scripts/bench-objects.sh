@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 11 item 5: the object level on every pair list of ../shared/lists for the detector
+# The object level on every pair list of ../shared/lists for the detector
 # setups (YOLOX-Nano alone, the default's PicoDet top-up below 3 YOLOX objects, both detectors on
 # every view), then the table of scripts/object-table.py.
 #

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # How the pipeline behaves on sensors of other resolutions; a benchmark, not a test (BENCHMARKS.md
-# "Other sensors' resolutions", docs/CONFIG.md "Pixel grids follow the image size").
+# "Capture conditions", docs/CONFIG.md "Pixel grids follow the image size").
 #
 #   bash scripts/bench-resolution.sh [LIST ...]        (default: redkitchen-gap60)
 #

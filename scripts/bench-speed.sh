@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Speed and memory benchmark (issues 6 and 13); not a test. Two parts:
+# Speed and memory benchmark; not a test. Two parts:
 #
 #   bash scripts/bench-speed.sh pairs [K=2] [RUNS=3]
 #     A fixed set of frame pairs, K from every list of ../shared/lists (evenly spread over the

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The multi-scene benchmark (issue 10): every pair list of ../shared/lists plus 3DMatch / 3DLoMatch
+# The multi-scene benchmark: every pair list of ../shared/lists plus 3DMatch / 3DLoMatch
 # redkitchen, for a set of methods and named configs, then one table (scripts/suite-table.py).
 #
 #   bash scripts/bench-suite.sh                     # run everything, then write the table

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Proves that zeroreg is usable from outside its build tree (issue 14), on the existing build:
+# Proves that zeroreg is usable from outside its build tree, on the existing build, and that the
+# docs' commands run:
 #  1. runs the code blocks of README's "Use it from your project" as written, in order (bash
 #     blocks with bash, python blocks with the interpreter named on their first line): install
 #     into build/install, build examples/ against it, install the Python package into a fresh
@@ -8,7 +9,13 @@
 #     models were installed with both;
 #  3. runs the Python tests with the venv's Python from outside the source tree, no PYTHONPATH;
 #  4. registers the demo pair with the build-tree CLI and the installed CLI and compares the 4x4
-#     T_target_source of all four results exactly, and their zeroreg_version with CMakeLists.txt.
+#     T_target_source of all four results exactly, and their zeroreg_version with CMakeLists.txt;
+#  5. runs every other command block of README.md and docs/*.md (```bash, ```sh, ```python) as
+#     written, from the repository root with build/ on PATH, so that the docs cannot drift from
+#     the program. A block that cannot run here (placeholders, hours of work, data or tools we do
+#     not have) has `<!-- not run: why -->` on the line before it, and is listed as skipped. A
+#     python block's first line names its interpreter (`# [VAR=value ...] /path/to/python`). An
+#     untagged block that starts like a command is an error: tag it, or mark it.
 #
 #   bash scripts/check-install.sh      (scripts/test.sh runs it after the build-tree tests)
 set -euo pipefail
@@ -103,4 +110,61 @@ print(f"check-install: T_target_source identical in all {len(results)} results (
 for row in reference["T_target_source"]:
     print("  " + " ".join(repr(x) for x in row))
 EOF
+
+# 5. Every other command block of README.md and docs/ (step 1 ran "Use it from your project").
+docs_start=$SECONDS
+docs_out="$out/docs"
+mkdir -p "$docs_out"
+awk -v dir="$docs_out" '
+  FNR == 1 { section = ""; prev = "" }
+  /^## / && !file { section = $0 }
+  !file && /^```/ {
+    lang = substr($0, 4)
+    skip = (prev ~ /^<!-- not run: .* -->$/)
+    first = 0
+    if (lang ~ /^(bash|sh|python)$/ && !(FILENAME == "README.md" && section == "## Use it from your project")) {
+      n++
+      where = FILENAME ":" FNR
+      if (skip) { print "skip\t" where "\t" prev > (dir "/manifest"); file = "/dev/null" }
+      else { file = sprintf("%s/doc-%03d.%s", dir, n, lang == "sh" ? "bash" : lang); print "run\t" where "\t" file > (dir "/manifest") }
+    } else if (lang == "") {
+      file = "/dev/null"; untagged = FILENAME ":" FNR; first = 1
+    } else { file = "/dev/null" }
+    prev = $0; next
+  }
+  file && /^```$/ { if (file != "/dev/null") close(file); file = ""; prev = $0; next }
+  file {
+    if (first && $0 !~ /^[[:space:]]*$/) {
+      first = 0
+      if ($0 ~ /^(build\/|\.\/build\/|zeroreg (register|eval|fuse|info|report|bench-models) |bash |python3? |\/usr\/bin\/python3|PYTHONPATH=|ZEROREG_|cmake |METHODS=|JOBS=)/)
+        print "untagged\t" untagged > (dir "/manifest")
+    }
+    if (file != "/dev/null") print > file
+    next
+  }
+  { prev = $0 }
+' README.md docs/*.md
+if grep -q '^untagged' "$docs_out/manifest"; then
+  echo "check-install: command blocks without a language tag (tag them bash, or mark them" \
+    "<!-- not run: why -->):" >&2
+  grep '^untagged' "$docs_out/manifest" | cut -f2 >&2
+  exit 1
+fi
+while IFS=$'\t' read -r what where rest; do
+  case "$what" in
+    skip) echo "check-install: skipped $where ${rest#<!-- }" | sed 's/ -->$//' ;;
+    run)
+      block_start=$SECONDS
+      case "$rest" in
+        *.bash) PATH="$repo_root/build:$PATH" bash -euo pipefail "$rest" </dev/null >"$rest.log" 2>&1 ;;
+        *.python)
+          read -ra interpreter <<<"$(sed -n '1s/^# *//p' "$rest")"
+          [[ ${#interpreter[@]} -gt 0 ]] || { echo "check-install: $where: a python block's first line must name the interpreter" >&2; exit 1; }
+          env "${interpreter[@]}" "$rest" </dev/null >"$rest.log" 2>&1 ;;
+      esac || { echo "check-install: $where failed:" >&2; tail -n 30 "$rest.log" >&2; exit 1; }
+      echo "check-install: ran $where in $((SECONDS - block_start)) s" ;;
+  esac
+done <"$docs_out/manifest"
+echo "check-install: doc blocks: $(grep -c '^run' "$docs_out/manifest") ran," \
+  "$(grep -c '^skip' "$docs_out/manifest") marked not run, in $((SECONDS - docs_start)) s"
 echo "check-install: passed in $((SECONDS - start)) s"

@@ -8,7 +8,7 @@ DATA_DIR a 7-Scenes-style folder with frames/frame-NNNNNN.{color.jpg|color.png,d
 the views are frames FIRST, FIRST+STEP, ..., <= LAST, each placed in the fragment's frame by the
 ground-truth poses (T_scan_camera = T_world_scan^-1 T_world_camera). OUT_DIR/scan.json refers to
 the fragment's cloud and the data's images by relative paths; nothing is copied. Used for the
-memory and time of a 10-view scan pair (issue 13; BENCHMARKS.md), e.g. for redkitchen fragments
+memory and time of a 10-view scan pair (BENCHMARKS.md), e.g. for redkitchen fragments
 0 and 1 (frames 0-49 and 50-99):
 
     python3 scripts/make-multiview-scan.py cache/fragments/7-scenes-redkitchen/fragment-0 \\

@@ -13,7 +13,7 @@ the GT) and wrong, how many overlap (>= 0.2) and how many do not at all (< 0.05)
 large object can be centroid-wrong yet the same object; a match with no overlap is a different
 one. Exploratory: thin objects and masks on missing depth show little overlap even when right.
 
-Superseded (twenty-first session) by `zeroreg eval`'s `objects.same_surface` (docs/MATCHING.md "Two
+Superseded by `zeroreg eval`'s `objects.same_surface` (docs/MATCHING.md "Two
 measures of a match"), which tests the objects' own 3D points: the outline used here is the mask's
 largest contour only, so a mask broken into pieces (a desk with things on it) loses most of itself
 and its match is undercounted.

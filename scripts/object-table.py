@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Object-level table (issue 11 item 5) from `zeroreg eval pairs` runs.
+"""Object-level table from `zeroreg eval pairs` runs.
 
     /usr/bin/python3 scripts/object-table.py RESULTS [RESULTS ...] [--common] [--markdown OUT.md]
 
@@ -14,7 +14,7 @@ Reads RESULTS/<setup>/<list>/pairs.jsonl (one `zeroreg eval pairs --list ../shar
   fifth of either object's 3D points within 5 cm of the other's; src/eval/object_match_metrics.hpp),
   over the records that carry it ("-" for runs made before it was recorded): a partly seen object
   shifts its centroid, not its surface;
-- matchable / pair: the most right matches these objects allow (`objects.matchable`, issue 11's
+- matchable / pair: the most right matches these objects allow (`objects.matchable`, the
   ceiling): the largest one-to-one set of source/target object pairs with equal labels whose
   centroids agree within 0.3 m under the ground truth; no matcher can get more right from what
   the detectors found ("-" for runs made before it was recorded);

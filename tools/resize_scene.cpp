@@ -1,6 +1,6 @@
 // zeroreg-resize-scene: a copy of a 3DMatch-layout scene (../shared/data/*) at another image size,
 // for measuring how the pipeline behaves on sensors of other resolutions (scripts/
-// bench-resolution.sh, BENCHMARKS.md "Other sensors' resolutions"). Not installed.
+// bench-resolution.sh, BENCHMARKS.md "Capture conditions"). Not installed.
 //
 //   zeroreg-resize-scene SCENE_DIR OUT_DIR WIDTH HEIGHT [DEPTH_NOISE_AT_1M_M]
 //

@@ -1,5 +1,5 @@
 // Optional refinement of a registration by coarse-to-fine point-to-plane ICP on the scans'
-// geometry (issue 6). Our own Gauss-Newton loop on Open3D's normals and our own k-d tree
+// geometry. Our own Gauss-Newton loop on Open3D's normals and our own k-d tree
 // (point_kd_tree.hpp), with serial reductions, so the result is a function of the input only
 // (Open3D's ICP sums in parallel threads).
 #pragma once
@@ -41,7 +41,7 @@ struct IcpStage {
 // Image correspondences that ICP must keep agreeing with (the estimate's RANSAC inliers): each pair
 // adds the 3D residual T * source - target to the fit, gated like the closest-point pairs of each
 // stage. They anchor the motions the geometry leaves weak (sliding along a floor or a wall), where
-// plain ICP follows the bias of pairs at the fringe of the overlap (issue 10).
+// plain ICP follows the bias of pairs at the fringe of the overlap.
 struct IcpAnchors {
   std::vector<Eigen::Vector3d> source, target;  // parallel
 };

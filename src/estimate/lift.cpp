@@ -29,7 +29,7 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
   // Depth edge: a much nearer/farther reading within the radius means the pixel may belong to
   // either surface (and colour/depth misalignment makes that likely). Missing readings do not
   // count: HoloLens depth has a regular pattern of thin holes all over the image (data MANIFEST),
-  // and treating every hole as an edge dropped most of its keypoints (issue 10).
+  // and treating every hole as an edge dropped most of its keypoints.
   const int r = config.depth_edge_radius_px;
   // The larger of the relative jump and the noise floor (LiftConfig::edge_noise_sigmas).
   const double noise_floor =

@@ -1,5 +1,5 @@
 // Rigid transform from 3D correspondences at low inlier ratios: pairwise length consistency and
-// maximum-clique inlier selection (issue 12, item 2).
+// maximum-clique inlier selection.
 //
 // A rigid motion preserves distances, so two correct correspondences (s_i, t_i), (s_j, t_j) satisfy
 // | |s_i - s_j| - |t_i - t_j| | <= 2 * noise bound, whatever the transform. Linking every pair

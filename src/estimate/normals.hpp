@@ -1,4 +1,4 @@
-// Surface normals of a thinned cloud, for point-to-plane ICP's target (issue 13).
+// Surface normals of a thinned cloud, for point-to-plane ICP's target.
 //
 // Open3D's PointCloud::EstimateNormals (a nanoflann k-d tree, then OpenMP over the points) was
 // ~8 % of a frame pair's CPU in `perf`, and its OpenMP pool competed with the pipeline's own two

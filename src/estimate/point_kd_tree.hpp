@@ -1,4 +1,4 @@
-// Exact nearest-neighbour search among 3D points, for ICP's closest-point pairs (issue 13).
+// Exact nearest-neighbour search among 3D points, for ICP's closest-point pairs.
 //
 // Open3D's KDTreeFlann (nanoflann over a dynamic-dimension Eigen map) was 8 % of a registration's
 // CPU in `perf`, most of it in ICP's 1-nearest queries. This tree is specialised for what ICP

@@ -374,7 +374,7 @@ std::vector<Eigen::Vector3d> ScanGeometry(const Scan& scan, double min_depth_m,
   return points;
 }
 
-// The extra hypotheses (issue 12) are off as well: they would replace an invalid whole-image
+// The extra hypotheses are off as well: they would replace an invalid whole-image
 // estimate by a geometry or clique one, which is no longer the whole-image path.
 std::vector<std::string> ImagePathOverrides() {
   return {"method.object_level=false", "hypotheses.enabled=false"};

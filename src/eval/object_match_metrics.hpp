@@ -1,4 +1,4 @@
-// Object-level matching quality against ground truth (issues 3 and 11).
+// Object-level matching quality against ground truth.
 //
 // Two measures of a matched object pair:
 // - centroids (the issues' precision): correct when the two centroids agree within a distance
@@ -44,12 +44,12 @@ bool SameSurface(const std::vector<Eigen::Vector3d>& source_surface,
                  const std::vector<Eigen::Vector3d>& target_surface,
                  const Transform& T_target_source, const SameSurfaceTest& test = {});
 
-// The most right matches any matcher could return from the objects perception gave (issue 11's
-// ceiling): the size of the largest one-to-one set of (source, target) object pairs with equal
-// labels (the paper's label rule, LabelCompatibilityMask) that `right(source, target)` accepts.
-// Objects no detector found, or found under different labels in the two scans, are not in it, so
-// "correct matches / matchable pairs" is the matcher's recall and "matchable pairs" bounds what
-// better matching alone can add.
+// The most right matches any matcher could return from the objects perception gave: the
+// size of the largest one-to-one set of (source, target) object pairs
+// with equal labels (the paper's label rule, LabelCompatibilityMask) that `right(source, target)`
+// accepts. Objects no detector found, or found under different labels in the two scans, are not in
+// it, so "correct matches / matchable pairs" is the matcher's recall and "matchable pairs" bounds
+// what better matching alone can add.
 struct MatchableObjects {
   const std::vector<std::string>& source_labels;
   const std::vector<std::string>& target_labels;

@@ -1,4 +1,4 @@
-// The prepared scans of `zeroreg eval` (issue 13): a scan that is in several pairs of a list (every
+// The prepared scans of `zeroreg eval`: a scan that is in several pairs of a list (every
 // frame of a sequence list is in about two) is read and perceived once, and the prepared scan is
 // reused by every later pair that names it, by any runner thread.
 //

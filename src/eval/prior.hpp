@@ -2,7 +2,7 @@
 // moved by a fixed error, as odometry, an IMU or a SLAM front end would give it. A loop-closure
 // user registers with such a prior (zeroreg::MotionPrior), and in symmetric scenes only the prior
 // tells the true pose from a flipped one that the scans agree with as well (BENCHMARKS.md
-// "Symmetric scenes and the motion prior"); this measures what a prior of a given quality buys on
+// "Pairs that share nothing, or little"); this measures what a prior of a given quality buys on
 // any pair list.
 #pragma once
 

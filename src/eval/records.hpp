@@ -23,7 +23,7 @@ constexpr double kRecallErrorThreshold = 0.2 * 0.2;
 constexpr double kInlierDistanceM = 0.1;
 constexpr double kFeatureMatchRecallThreshold = 0.05;
 // A matched object pair is correct when its centroids agree within this under the ground truth
-// (issue 3; partly seen objects shift their centroid by up to a few decimetres).
+// (partly seen objects shift their centroid by up to a few decimetres).
 constexpr double kObjectMatchToleranceM = 0.3;
 
 struct PairTask {

@@ -1,8 +1,7 @@
 // FPFH geometric descriptors of a point cloud (Rusu et al., ICRA 2009), through Open3D (in the
 // module loaded on first use, src/open3d_module/): voxel down-sampling, normals, then one 33-bin
-// histogram per kept point. Shared by the FPFH + RANSAC
-// baseline (src/eval/methods.cpp) and the pipeline's geometry hypothesis (issue 12,
-// src/pipeline/hypotheses.cpp).
+// histogram per kept point. Shared by the FPFH + RANSAC baseline (src/eval/methods.cpp) and the
+// pipeline's geometry hypothesis (src/pipeline/hypotheses.cpp).
 #pragma once
 
 #include <Eigen/Core>

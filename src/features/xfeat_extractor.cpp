@@ -73,7 +73,7 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   const int cells_x = n_x / kCell, cells_y = n_y / kCell;
   // The image is scaled uniformly so that its longer side is 640 px (a 640x480 frame is not
   // scaled at all) and the rest of the input is filled with the image's mean colour: stretching
-  // it instead (as before issue 10) distorted 540x360 HoloLens frames by 1.19x / 1.78x, so the
+  // it instead distorted 540x360 HoloLens frames by 1.19x / 1.78x, so the
   // same surface looked different in two views at different angles. The flat fill gives no
   // keypoints; any found within a cell of it are dropped below.
   const double scale = std::min(static_cast<double>(kInputSize) / bgr.cols,
@@ -88,7 +88,7 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   if (width == bgr.cols && height == bgr.rows) {
     bgr.copyTo(padded(cv::Rect(0, 0, width, height)));
   } else {
-    // Linear when enlarging (as before issue 10), area averaging when shrinking (no aliasing).
+    // Linear when enlarging, area averaging when shrinking (no aliasing).
     const int interpolation =
         width >= bgr.cols && height >= bgr.rows ? cv::INTER_LINEAR : cv::INTER_AREA;
     cv::resize(bgr, padded(cv::Rect(0, 0, width, height)), cv::Size(width, height), 0, 0,

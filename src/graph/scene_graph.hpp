@@ -28,7 +28,7 @@ Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
 Eigen::MatrixXd NodeSimilarity(const Eigen::MatrixXd& semantics_source,
                                const Eigen::MatrixXd& semantics_target);
 
-// C with an appearance term (issue 11; docs/MATCHING.md):
+// C with an appearance term (docs/MATCHING.md):
 //   C_jk = 1 + cos(s^p_j, s^q_k) - lambda (1 - A_jk)  where comparable(j, k), else the C above,
 // A (n x m) the appearance cosines, comparable (n x m, 0/1) whether both objects have descriptors
 // of one kind. lambda = 0 gives NodeSimilarity exactly. Throws InputError for wrong sizes,

@@ -1,12 +1,12 @@
-// A per-user cache of ONNX Runtime's optimised graphs (inference.graph_cache, issue 13).
+// A per-user cache of ONNX Runtime's optimised graphs (inference.graph_cache).
 //
 // Creating an ONNX Runtime session with ORT_ENABLE_ALL spends most of its time optimising the graph
-// (fusions, constant folding, NCHWc layouts): 85-115 ms of XFeat's session creation on the 2-core
-// development machine, against 25-40 ms when the graph saved by an earlier process is loaded with
-// optimisation off. The saved graph is the same computation: XFeat's and YOLOX's outputs are
-// bit-identical either way (tests/inference/graph_cache_test.cpp). Because the layout passes pick
-// kernels for the CPU's vector extensions, an entry is keyed to the model's bytes, the ONNX Runtime
-// version and the CPU (vendor, model and feature flags): another machine or runtime never reads it.
+// (fusions, constant folding, NCHWc layouts); the graph saved by an earlier process loads with
+// optimisation off in a fraction of that time (docs/SPEED.md, "Start-up"). The saved graph is the
+// same computation: XFeat's and YOLOX's outputs are bit-identical either way
+// (tests/inference/graph_cache_test.cpp). Because the layout passes pick kernels for the CPU's
+// vector extensions, an entry is keyed to the model's bytes, the ONNX Runtime version and the CPU
+// (vendor, model and feature flags): another machine or runtime never reads it.
 #pragma once
 
 #include <optional>

@@ -11,6 +11,7 @@
 #include "zeroreg/error.hpp"
 
 #ifdef ZEROREG_WITH_ONNXRUNTIME
+#include <dlfcn.h>
 #include <onnxruntime_cxx_api.h>
 #endif
 
@@ -240,6 +241,19 @@ std::string OnnxRuntimeVersion() {
 #else
   return "";
 #endif
+}
+
+std::string OnnxRuntimeLibraryPath() {
+#ifdef ZEROREG_WITH_ONNXRUNTIME
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&OrtGetApiBase), &info) != 0 &&
+      info.dli_fname != nullptr) {
+    std::error_code error;
+    const std::filesystem::path path = std::filesystem::canonical(info.dli_fname, error);
+    return error ? std::string(info.dli_fname) : path.string();
+  }
+#endif
+  return "";
 }
 
 InferenceEngine ResolveEngine(const InferenceConfig& config) {

@@ -24,6 +24,10 @@ bool OnnxRuntimeAvailable();
 // The linked ONNX Runtime's version ("1.29.0"), or "" in a build without it.
 std::string OnnxRuntimeVersion();
 
+// The file the dynamic loader opened for the linked ONNX Runtime (libonnxruntime.so.1), or "" in
+// a build without it or when the loader does not say: what a bug report needs to name.
+std::string OnnxRuntimeLibraryPath();
+
 // inference.engine resolved: "auto" is onnxruntime when available, else opencv. Throws InputError
 // naming inference.engine for an unknown name, or for "onnxruntime" in a build without it, and
 // naming inference.threads when it is outside 1..256 and inference.graph_cache when it is empty.

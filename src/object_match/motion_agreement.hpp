@@ -1,4 +1,4 @@
-// Do the matched objects move together? (issue 11; docs/MATCHING.md "Matches that move together")
+// Do the matched objects move together? (docs/MATCHING.md "Matches that move together")
 //
 // Each matched object pair comes with its point support: the point matches between the two
 // objects that one rigid motion explains (its inliers). The whole scene moves rigidly between two

@@ -1,4 +1,4 @@
-// Does the returned transform support an object match? (object_match.agree_with_result, issue 11;
+// Does the returned transform support an object match? (object_match.agree_with_result;
 // docs/MATCHING.md "Matches the result supports")
 //
 // Once the pipeline has a transform the scans agree with, two observations of one object either

@@ -1,4 +1,4 @@
-// Geometric consistency of the matched objects (issue 11): a rigid motion preserves distances, so
+// Geometric consistency of the matched objects: a rigid motion preserves distances, so
 // two right object matches (j, k), (j', k') have centroids about as far apart in the source as in
 // the target, | |c^p_j - c^p_j'| - |c^q_k - c^q_k'| | <= tolerance, whatever the transform. Eq. 2
 // scores each matched edge by the scene graphs' affinities, which are kNN-normalised and so say

@@ -1,4 +1,4 @@
-// Do two objects' surfaces coincide under a rigid motion? (issue 11)
+// Do two objects' surfaces coincide under a rigid motion?
 //
 // Each object carries its surface as 3D points (its masks' depth pixels, one per 2 cm voxel;
 // SceneObject::points). Under the motion between the scans, two observations of one physical

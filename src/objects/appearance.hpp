@@ -1,4 +1,4 @@
-// Image appearance of an object (issue 11 item 3): a descriptor of the pixels inside its mask in
+// Image appearance of an object: a descriptor of the pixels inside its mask in
 // each view, averaged over the views, that the node similarity C of §3.3 and the cross-view
 // association of §3.2 use beside the label's CLIP feature. Label semantics cannot tell two chairs
 // apart; their colours often can.

@@ -1,4 +1,4 @@
-// Class-agnostic object proposals for the "w/o detection" ablation (issue 3): regions of the depth
+// Class-agnostic object proposals for the "w/o detection" ablation: regions of the depth
 // image bounded by depth discontinuities, with a colour-histogram appearance feature standing in
 // for the label's CLIP feature, so that objects are matched by graph structure and appearance.
 #pragma once
@@ -33,7 +33,7 @@ std::vector<Proposal> DepthProposals(const cv::Mat& depth_m, double relative_jum
 // L2-normalised 8x4x4 HSV histogram of the masked pixels (appearance feature, 128-d).
 Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask);
 
-// Issue 11: when fewer than objects.proposals_below of `found` (a view's segmented detections)
+// When fewer than objects.proposals_below of `found` (a view's segmented detections)
 // lift to at least objects.min_points points, appends the view's DepthProposals that lie at most
 // half inside the detections' masks (label "object"; masks and boxes as DepthProposals makes
 // them). Does nothing when proposals_below is 0.

@@ -2,10 +2,10 @@
 // libzeroreg-open3d.so, loaded the first time one of them is called (docs/SPEED.md, "Start-up").
 //
 // Why: Open3D 0.16 brings about 100 shared libraries (VTK, filament, embree, ...) that the dynamic
-// loader maps and relocates, eagerly (Debian links them with BIND_NOW), before main: about 75 ms
-// of every process, a fifth of a frame-pair registration's wall time. A frame pair usually needs
-// none of it (ICP's clouds, normals and k-d trees are zeroreg's own), so the processes that need
-// none of it no longer pay for it. The module is needed by the geometry hypothesis (FPFH), point
+// loader maps and relocates, eagerly (Debian links them with BIND_NOW), before main: a fifth of
+// a frame-pair registration's wall time (docs/SPEED.md, "Start-up"). A frame pair usually needs
+// none of it (ICP's clouds, normals and k-d trees are zeroreg's own), so only the processes that
+// need it pay for it. The module is needed by the geometry hypothesis (FPFH), point
 // cloud files (.ply of fused fragments), TSDF fusion and the FPFH + RANSAC baseline.
 //
 // The interface is plain data only (std containers, Eigen, raw image rows), so the module needs

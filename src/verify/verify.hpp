@@ -1,4 +1,4 @@
-// Geometric verification of a registration (issue 10): do the two scans agree under the estimate?
+// Geometric verification of a registration: do the two scans agree under the estimate?
 //
 // Each scan's depth is rendered into the other scan's views: every sampled depth pixel of one scan
 // is moved by the estimate into each camera of the other scan and compared with the depth that

@@ -279,7 +279,7 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     write("verification-view" + std::to_string(v) + ".png",
           DrawVerification(source, target, result, verify, static_cast<int>(v)));
   }
-  // The winning hypothesis and its runners-up (issue 12), when there was a choice.
+  // The winning hypothesis and its runners-up, when there was a choice.
   if (result.candidates.size() > 1) {
     for (size_t v = 0; v < target.views.size(); ++v) {
       write("hypotheses-view" + std::to_string(v) + ".png",

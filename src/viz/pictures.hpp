@@ -11,7 +11,7 @@
 //                               image dimmed, each source depth sample where it lands, green
 //                               where the surfaces agree, red where it lies in the free space the
 //                               target camera saw through, yellow where it is hidden behind;
-//   hypotheses-view<i>.png      when several candidate transforms were checked (issue 12): the
+//   hypotheses-view<i>.png      when several candidate transforms were checked: the
 //                               registered clouds under the chosen one and its runners-up (best
 //                               verification score first), each captioned with its source, score
 //                               and whether the check passed.

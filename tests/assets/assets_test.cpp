@@ -67,7 +67,7 @@ TEST_F(AssetsResolve, EnvironmentComesSecond) {
 }
 
 TEST_F(AssetsResolve, ExplicitDirectoryThatDoesNotExistIsAnError) {
-  // Issue 15: it used to fall through to $ZEROREG_ASSETS or <repo>/assets silently.
+  // It must not fall through to $ZEROREG_ASSETS or <repo>/assets silently.
   const std::string message =
       InputErrorMessage([&] { detail::ResolveAssetsDirFrom(missing_, env_dir_, repo_); });
   EXPECT_TRUE(Contains(message, missing_ + ": assets folder (--assets")) << message;

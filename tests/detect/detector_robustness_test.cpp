@@ -92,7 +92,7 @@ TEST(DetectorModels, BadImageAndConfigNamed) {
 }
 
 TEST(DetectorYolox, ThinImagesAreDetectedNotAnOpenCvAssertion) {
-  // Issue 15: 1x1000 letterboxes to 0 x 416 pixels, which cv::resize refused (exit 3).
+  // 1x1000 letterboxes to 0 x 416 pixels, which cv::resize refused (exit 3).
   auto detector = MakeDetector(DetectorConfig{}, ModelPaths());
   EXPECT_NO_THROW(detector->Detect(cv::Mat(1, 1000, CV_8UC3, cv::Scalar(90, 90, 90)), "thin.png"));
   EXPECT_NO_THROW(detector->Detect(cv::Mat(1000, 1, CV_8UC3, cv::Scalar(90, 90, 90)), "tall.png"));

@@ -1,4 +1,4 @@
-// PP-PicoDet-S 416 (issue 11 item 4): the decode against hand-built output tensors with exact
+// PP-PicoDet-S 416: the decode against hand-built output tensors with exact
 // expected boxes, the input layout of the MANIFEST, the real model on a redkitchen frame against
 // the MANIFEST's detections, the label spellings, and the YOLOX + PicoDet ensemble.
 #include <gtest/gtest.h>

@@ -115,7 +115,7 @@ TEST(Icp, TooFewPointsReturnTheStartUnchanged) {
   EXPECT_EQ(r.iterations, 0);
 }
 
-// Issue 10: on a floor alone, point-to-plane ICP cannot see a start that is off along the floor,
+// On a floor alone, point-to-plane ICP cannot see a start that is off along the floor,
 // and whatever pulls it there (fringe pairs, noise) goes unchecked. The estimate's inlier
 // correspondences anchor those motions: with them ICP lands on the truth, without them it keeps the
 // in-plane error.

@@ -1,4 +1,4 @@
-// EstimateNormals (issue 13): exact surfaces with known normals, agreement with Open3D's
+// EstimateNormals: exact surfaces with known normals, agreement with Open3D's
 // EstimateNormals (the rule it replaces), independence of the input order, and the edge cases.
 #include "estimate/normals.hpp"
 

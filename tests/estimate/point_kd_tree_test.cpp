@@ -1,4 +1,4 @@
-// PointKdTree (issue 13) against brute force: the same nearest point within the gate and the same
+// PointKdTree against brute force: the same nearest point within the gate and the same
 // squared distance bit for bit, on clouds shaped like ICP's (a surface sampled on a grid, random
 // points, repeated points) and at the edges (empty tree, gate exactly on a point).
 #include "estimate/point_kd_tree.hpp"

@@ -304,8 +304,8 @@ TEST_F(EvalSmoke, ThreeDMatchFusesOnlyNeededFragmentsAndScoresLikeTheGroundTruth
 }
 
 // The TUM cabinet is a box: from 8 frames apart, 10 -> 18 comes back valid and turned 89 deg
-// without a prior, since the check cannot tell the box's sides apart (BENCHMARKS.md "Symmetric
-// scenes and the motion prior"). A prior 5 deg / 10 cm from the truth, as odometry would give, must
+// without a prior, since the check cannot tell the box's sides apart (BENCHMARKS.md "Pairs that
+// share nothing, or little"). A prior 5 deg / 10 cm from the truth, as odometry would give, must
 // leave no wrong pose valid; each pair gets the same prior with any --jobs, and the prior is part
 // of what a results folder holds.
 TEST_F(EvalSmoke, MotionPriorFromTheTruthLeavesNoWrongPoseValid) {

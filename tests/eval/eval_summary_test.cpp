@@ -307,8 +307,8 @@ TEST(EvalRecords, ObjectMatchMeasuresAreScoredAndRoundTrip) {
   EXPECT_EQ(PairRecordToJson(back), PairRecordToJson(with));
 }
 
-// The matchable pairs (issue 11's ceiling) are a maximum one-to-one matching, not a greedy one:
-// source 0 may go to target 0 or 1, source 1 only to target 0, so only re-seating source 0 on
+// The matchable pairs (the ceiling of any matcher) are a maximum one-to-one matching, not a greedy
+// one: source 0 may go to target 0 or 1, source 1 only to target 0, so only re-seating source 0 on
 // target 1 gives both.
 TEST(EvalRecords, MatchableObjectPairsAreAMaximumOneToOneMatching) {
   EXPECT_EQ(MaximumBipartiteMatching({{true, true}, {true, false}}, 2), 2);

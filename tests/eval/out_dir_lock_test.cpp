@@ -1,4 +1,4 @@
-// Issue 15: a results folder is written by one `zeroreg eval` at a time.
+// A results folder is written by one `zeroreg eval` at a time.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

@@ -1,4 +1,4 @@
-// MutualFeatureMatches (issue 13: brute force instead of a 33-d k-d tree): the same pairs and
+// MutualFeatureMatches (brute force instead of a 33-d k-d tree): the same pairs and
 // scores as a direct double loop, ties to the lower index, the same result for any thread count,
 // and on real FPFH features of a scene and its rigidly moved copy (flat regions: many near-equal
 // histograms) the same pairs as the definition, far more of them on their own moved copy than

@@ -1,4 +1,4 @@
-// XFeat at the image's own size (issue 13): the input size rule, the rewritten any-size model
+// XFeat at the image's own size: the input size rule, the rewritten any-size model
 // (scripts/rewrite_onnx_xfeat.py) computing what the 640x640 export computes on a 640x640 input,
 // and the keypoints of real frames at their own size against the padded square's, with the
 // square's contrast (the default) and with upstream's normalisation.

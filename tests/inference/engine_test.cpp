@@ -1,4 +1,4 @@
-// inference.engine (issue 11): ONNX Runtime and OpenCV DNN run the same models with the same pre-
+// inference.engine: ONNX Runtime and OpenCV DNN run the same models with the same pre-
 // and post-processing, so XFeat keypoints/descriptors and YOLOX boxes must agree on real frames up
 // to floating-point differences of the two engines' kernels; ONNX Runtime's output must not depend
 // on its thread count; and the engine names are checked.

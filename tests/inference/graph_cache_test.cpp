@@ -1,4 +1,4 @@
-// inference.graph_cache (issue 13): ONNX Runtime's optimised graph of a model, saved by one
+// inference.graph_cache: ONNX Runtime's optimised graph of a model, saved by one
 // process and loaded by the next, must give bit-identical outputs; entries are keyed to the
 // model's bytes; a damaged or unwritable cache never changes a result or raises an error.
 #include "inference/graph_cache.hpp"

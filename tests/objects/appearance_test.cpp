@@ -1,4 +1,4 @@
-// Object appearance (issue 11 item 3): the colour descriptor against colours with known answers,
+// Object appearance: the colour descriptor against colours with known answers,
 // its mean over views, the appearance term of the node similarity C (exact values), and the
 // appearance gate of the cross-view association.
 #include "objects/appearance.hpp"

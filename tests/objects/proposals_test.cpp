@@ -64,8 +64,7 @@ TEST(Proposals, TopUpSkipsRegionsADetectionCoversAndViewsWithEnoughDetections) {
 
 // On real frames with every view topped up (redkitchen 858 -> 490, redkitchen-cross): proposals
 // become objects of the scans, labelled kProposalLabel, and the registration stays right. Their
-// label is not looked up in the CLIP tables, so the run prints no "is in no CLIP table" warning
-// (it did for every run with proposals before the twenty-sixth session).
+// label is not looked up in the CLIP tables, so the run prints no "is in no CLIP table" warning.
 TEST(Proposals, RealFramesToppedUpGiveUnlabelledObjectsWithoutAWarning) {
   const std::string dir = testing::SharedDir() + "/data/7scenes-redkitchen@";
   const Scan source = LoadScan(dir + "858"), target = LoadScan(dir + "490");

@@ -172,7 +172,7 @@ TEST(Sinkhorn, RejectsBadInput) {
       MatchSinkhorn(Eigen::MatrixXf(g.cast<float>()), Eigen::MatrixXf(g.cast<float>())).size(), 3u);
 }
 
-// The whole-image path splits the kernel's columns among threads (issue 13): the matches and
+// The whole-image path splits the kernel's columns among threads: the matches and
 // their probabilities are bit-identical for any thread count, for column counts that do and do not
 // divide into the blocks, and agree with the double-precision path.
 TEST(Sinkhorn, SameMatchesWhateverTheThreadCount) {

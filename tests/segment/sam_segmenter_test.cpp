@@ -1,4 +1,4 @@
-// segmenter.backend = sam (issue 11): MobileSAM masks of YOLOX boxes on real redkitchen frames lie
+// segmenter.backend = sam: MobileSAM masks of YOLOX boxes on real redkitchen frames lie
 // in their boxes, cover a plausible part of them and one depth layer of it, are deterministic
 // (also across ONNX Runtime thread counts), and a missing model is named with the command that
 // fetches it.
@@ -197,7 +197,7 @@ TEST(SegmenterSam, GraphCacheGivesTheSameMasks) {
   std::filesystem::remove_all(cache);
 }
 
-// Issue 11: SAM's embedding pooled over an object's final mask (objects.appearance, kind
+// SAM's embedding pooled over an object's final mask (objects.appearance, kind
 // kSamEmbeddingKind) finds the same object in another view. Frames 0 and 40 of redkitchen, YOLOX
 // boxes, SAM masks; "the same object" = same label and centroids within 0.3 m
 // (method.object_centroid_threshold_m) under the ground-truth poses. Each such object of frame 0

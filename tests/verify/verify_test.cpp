@@ -143,7 +143,7 @@ TEST(Verify, BrightnessRankCorrelationAtTheAgreeingSamples) {
                      .brightness_rank_correlation));
 }
 
-// The dangerous case of issue 10: a transform that keeps the floor aligned (here: turned 35 deg
+// The dangerous case: a transform that keeps the floor aligned (here: turned 35 deg
 // about the floor's normal and shifted along the floor), so floor texture would give inliers, but
 // puts the walls and furniture where the other camera saw free space.
 TEST(Verify, TransformAligningOnlyTheFloorFails) {
@@ -188,7 +188,7 @@ TEST(Verify, RoomIsNotDegenerateButASinglePlaneIs) {
 }
 
 // What decides whether ICP's result is kept (register.cpp, Refine): the check's score. An ICP
-// that slid 20 cm along the back wall (the cubicle case of issue 10) scores lower than the
+// that slid 20 cm along the back wall (an office cubicle) scores lower than the
 // estimate it started from, so the estimate stays.
 TEST(Verify, SlidingAlongAWallScoresLowerThanTheTruth) {
   const Pair p = MakePair(Room());
