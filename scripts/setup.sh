@@ -18,6 +18,7 @@ cd "$repo_root"
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libpng-dev libjpeg62-turbo-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
+  libceres-dev
   googletest libgtest-dev
   pybind11-dev python3-dev python3-numpy python3-pytest python3-onnx
   clang-format
