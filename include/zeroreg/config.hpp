@@ -167,7 +167,7 @@ struct ObjectMatchConfig {
   // CompleteByMotion). Eq. 2 tells two chairs of one view apart by structure and appearance only,
   // and at wide baselines gives one the other's partner; the motion agreement then drops that
   // match, and this gives the chair the partner its own point matches move with. Uses only the
-  // object pairs' own motions (no transform of the result). Default on (twenty-sixth session): on
+  // object pairs' own motions (no transform of the result). Default on: on
   // the eight frame lists and 3DMatch / 3DLoMatch it kept every accuracy figure and verdict, found
   // 0.02-0.10 more right matches per pair on six lists and 3DMatch, raised precision on five lists
   // and 3DMatch by 0.1-1.2 points and lowered it on hololens-gap1 by 0.4 (docs/MATCHING.md
@@ -193,12 +193,11 @@ struct ObjectMatchConfig {
 // Object detection (paper §3.2, "Object Detection and Segmentation").
 struct DetectorConfig {
   // "ensemble" (default: YOLOX-Nano, plus PP-PicoDet-S 416 where ensemble_below says; pooled,
-  // per-class NMS with nms_iou across both), "yolox", "picodet", "darknet" or "file". The default
-  // since the eighteenth session: with ensemble_below = 3 the object path carries 82.5 / 50.9 %
+  // per-class NMS with nms_iou across both), "yolox", "picodet", "darknet" or "file". The default:
+  // with ensemble_below = 3 the object path carries 82.5 / 50.9 %
   // of cabinet-gap1 / gap3 (17.5 / 12.7 % with YOLOX alone; 80.7 % on cabinet-gap1 since
   // hypotheses.image_rival_single) and more on every other list but one (equal), with
-  // the same accuracy and verdicts on every list (BENCHMARKS.md, "A second detector where the
-  // first sees too few objects").
+  // the same accuracy and verdicts on every list (docs/PERCEPTION.md, "`ensemble`").
   std::string backend = "ensemble";
   // Detections scoring below this are dropped. YOLOX/Yolo-Fastest: score = objectness * class
   // probability; 0.3 is the threshold the model MANIFESTs were checked with.
@@ -240,8 +239,8 @@ struct InferenceConfig {
   // on this number (tested: tests/inference). OpenCV DNN uses its own pool, not this value.
   int threads = 2;
   // Where ONNX Runtime's optimised graphs are kept between processes, so that a session loads the
-  // graph an earlier process optimised instead of optimising the model again (ORT_ENABLE_ALL is
-  // ~60-75 ms of XFeat's session creation on 2 cores; the outputs are bit-identical). "auto":
+  // graph an earlier process optimised instead of optimising the model again (optimising is
+  // most of XFeat's session creation, docs/SPEED.md; the outputs are bit-identical). "auto":
   // $ZEROREG_CACHE_DIR, else $XDG_CACHE_HOME/zeroreg, else ~/.cache/zeroreg (plus
   // /onnxruntime-graphs); "off": never read or write; anything else: that directory. An entry is
   // keyed to the model's sha256, the ONNX Runtime version and the CPU's features; a directory that
@@ -305,7 +304,7 @@ struct SegmenterConfig {
   // (11-12 % with 3), and the masks shrank to the fragments between the rings. On the Kinect and
   // TUM frames 98-99 % of the missing pixels lie in holes at least 3 px wide, and the share of
   // edge pixels moves by under a point. Any width >= 1 is exact (even ones too). 1 = every
-  // missing pixel is an edge (the rule before the nineteenth session). docs/PERCEPTION.md, "Thin
+  // missing pixel is an edge. docs/PERCEPTION.md, "Thin
   // holes are not depth edges".
   int min_hole_width_px = 3;
   // Noisy depth is neither an edge nor off the object's layer. With sigma(d) = a d^2 the depth
@@ -369,7 +368,7 @@ struct RansacConfig {
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
 struct RefineConfig {
   // On by default: on the redkitchen frame pairs it lowers the median translation error and
-  // raises the 5 deg / 5 cm accuracies (BENCHMARKS.md, issue 6 tables).
+  // raises the 5 deg / 5 cm accuracies (docs/CONFIG.md, "Why the verdict's and ICP's defaults").
   bool enabled = true;
   // Coarse-to-fine point-to-plane ICP in three stages. Each stage gates the closest-point
   // pairs at its distance, so it pulls in estimates up to about that far off and ignores
@@ -409,8 +408,8 @@ struct RefineConfig {
   double min_kept_inlier_fraction = 0.5;
   // true: an object-level estimate the check refuses is refined (and checked again) before the
   // whole-image fallback is tried; when the fallback is tried after all, its estimate is refined
-  // too before the two are compared. false: only the returned estimate is refined (as before the
-  // thirteenth session). docs/CONFIG.md, "The verdict".
+  // too before the two are compared. false: only the returned estimate is refined. docs/CONFIG.md,
+  // "The verdict".
   bool before_fallback = true;
   double anchor_weight_fine = 0.0;
   // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
@@ -557,7 +556,7 @@ struct MethodConfig {
 // (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
 struct HypothesesConfig {
   // On: when the method's own estimate is not valid, the sources below are tried as well. Off:
-  // the paper's flow alone. On by default since issue 12's second measurement: 3DMatch /
+  // the paper's flow alone. On by default: 3DMatch /
   // 3DLoMatch redkitchen RR 98.1 -> 100 % and 71.4 -> 78.6 %, more valid right results on
   // redkitchen-cross (+5), redkitchen-gap60 (+4) and cabinet-gap1 (+1), no valid-wrong one
   // anywhere; one cabinet-gap3 pair (19-22) becomes valid at 5.4 deg / 6.6 cm where the refused
@@ -588,7 +587,7 @@ struct HypothesesConfig {
   // held either way; ARKit gives frames in the sensor's orientation) or upside down share few
   // whole-image matches. With it, 28 pairs of seven lists with the source camera turned by 90 / 180
   // / 270 deg are 96.4 / 96.4 / 89.3 % right, against 82.1 / 64.3 / 67.9 % without
-  // (scripts/bench-conditions.py; BENCHMARKS.md "Turned cameras and other capture conditions"); no
+  // (scripts/bench-conditions.py; BENCHMARKS.md "Capture conditions"); no
   // list pair changes. Costs three feature extractions per source view (once per prepared scan),
   // four overlap scores and at most one matching, only on pairs no other source registers: 311 ->
   // 449 ms median on pairs without common surface.
@@ -604,7 +603,7 @@ struct HypothesesConfig {
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
   // "ransac" here gave three valid-but-wrong results on HoloLens (geometry source, 12-18
-  // self-consistent wrong FPFH inliers the check accepted; BENCHMARKS.md "Stress runs").
+  // self-consistent wrong FPFH inliers the check accepted).
   std::string estimator = "clique";
   // Count test of the extra sources' estimates: the inlier ratio asked of them (ransac.min_inliers
   // and min_inlier_spread_m still apply). 0: the geometric check judges; a low ratio is what
@@ -644,7 +643,7 @@ struct HypothesesConfig {
   // correlation of the two images' grey levels at the agreeing samples
   // (VerificationResult::brightness_rank_correlation; order of brightness survives exposure
   // changes) is at least this. Unknown (fewer than 30 agreeing samples with colour) does not
-  // refuse. Measured (twenty-third session): 0.48-0.96 on all 648 valid (right) results of the
+  // refuse. Measured: 0.48-0.96 on all 648 valid (right) results of the
   // frame lists, 0.58-0.78 on the geometry source's right results there and on the fragments,
   // 0.51-0.92 on the right results of scripts/bench-negatives.py's low-overlap pairs; -0.38 to
   // 0.31 on the geometry source's valid poses between two different rooms (5 of 180
@@ -693,7 +692,7 @@ struct HypothesesConfig {
   // it and the rigidity of the matches cannot be checked, so a wrong match of two look-alike
   // objects can give a wrong estimate the check cannot refuse (hololens-gap5 87 -> 92: one wrong
   // match, 21.6 deg / 30 cm off, free-space violations 9.5 % against the 10 % limit, whenever the
-  // objects around it are fewer; BENCHMARKS.md "One object match"). Off with hypotheses.enabled =
+  // objects around it are fewer). Off with hypotheses.enabled =
   // false. Costs one whole-image matching, estimate and ICP per such pair.
   bool image_rival_single = true;
 };

@@ -59,7 +59,7 @@ class PreparedScan {
 // angle and translation of inv(prior) * T). Scans with symmetric content (a box seen from
 // opposite sides, a long table from both ends) agree as well under a flipped pose as under the
 // true one, or better, and no test of the two scans alone can tell them apart
-// (BENCHMARKS.md "Symmetric scenes and the motion prior"); the prior can. When no source gives a
+// (BENCHMARKS.md "Pairs that share nothing, or little"); the prior can. When no source gives a
 // valid pose within it, ICP from the prior itself is tried (path "prior icp") and judged by the
 // same check. The defaults are the benchmark's own "right" (15 deg, 30 cm).
 struct MotionPrior {

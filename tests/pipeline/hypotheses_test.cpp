@@ -482,7 +482,7 @@ TEST(ImageRival, SingleObjectMatchGivesWayToTheBetterScoredOne) {
 // hololens-cross 31 -> 194: ICP rescued a 32-correspondence object estimate to 2.2 deg / 5.1 cm
 // (score 0.316); the whole image's estimate is 0.6 deg / 2.5 cm and scores 0.484. That object
 // estimate came from masks cut up by the HoloLens depth's thin gaps (every missing pixel a mask
-// edge, `segmenter.min_hole_width_px` = 1, the rule before the nineteenth session), which this
+// edge, `segmenter.min_hole_width_px` = 1), which this
 // test keeps; with the default masks the object path gives the whole image's answer itself.
 TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   const std::string dir = testing::SharedDir() + "/data/hololens-office";
