@@ -341,7 +341,6 @@ cv::Mat DepthFromPython(const py::handle& obj, const py::handle& depth_scale_obj
   if (a.ndim() != 2) {
     throw MakeInputError(where, "shape " + ShapeString(a) + "; expected (H, W)");
   }
-  RequireImageSize(a, where);
   if (a.shape(0) != height || a.shape(1) != width) {
     throw MakeInputError(where,
                          "shape " + ShapeString(a) + " does not match colour " + color_shape);
