@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Runs every libFuzzer harness of fuzz/ for a bounded time (fuzz/README.md). Not part of the
+# Runs the libFuzzer harnesses of fuzz/ (all, or those named) for a bounded time (fuzz/README.md). Not part of the
 # default CI (scripts/test.sh): building the instrumented library takes a while.
 #
-#   bash scripts/fuzz.sh [SECONDS_PER_HARNESS]     (default 60)
+#   bash scripts/fuzz.sh [SECONDS_PER_HARNESS [HARNESS...]]     (default 60 s, every harness)
 #
 # Environment: ZEROREG_FUZZ_BUILD_DIR (default build-fuzz), ZEROREG_JOBS (build jobs, default 2).
 # Exit status 1 if a harness found a crash; its input is left in <build>/findings/<harness>/.
@@ -21,8 +21,13 @@ command -v clang++ >/dev/null || {
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
   -DCMAKE_CXX_COMPILER=clang++ -DZEROREG_FUZZ=ON -DZEROREG_BUILD_TESTS=OFF \
   -DZEROREG_BUILD_PYTHON=OFF -DZEROREG_WERROR=OFF >/dev/null
-harnesses=()
-for source in fuzz/fuzz_*.cpp; do harnesses+=("$(basename "$source" .cpp)"); done
+harnesses=("${@:2}")
+if [[ ${#harnesses[@]} -eq 0 ]]; then
+  for source in fuzz/fuzz_*.cpp; do harnesses+=("$(basename "$source" .cpp)"); done
+fi
+for harness in "${harnesses[@]}"; do
+  [[ -f "fuzz/$harness.cpp" ]] || { echo "fuzz: no harness fuzz/$harness.cpp" >&2; exit 2; }
+done
 cmake --build "$build_dir" -j"$jobs" --target "${harnesses[@]}"
 
 status=0

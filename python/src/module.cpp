@@ -25,6 +25,7 @@
 #include "estimate/depth_noise.hpp"
 #include "estimate/icp.hpp"
 #include "eval/metrics.hpp"
+#include "io/image_checks.hpp"
 #include "io/image_file.hpp"
 #include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
@@ -290,13 +291,20 @@ Intrinsics RequireIntrinsics(const py::handle& obj, const std::string& where, in
   k.cy = K.at(1, 2);
   k.width = width;
   k.height = height;
-  if (!(k.fx > 0 && k.fy > 0)) {
-    std::ostringstream s;
-    s << "focal length fx = " << k.fx << ", fy = " << k.fy
-      << " is invalid; expected fx > 0 and fy > 0 (pixels)";
-    throw MakeInputError(where, s.str());
-  }
+  detail::CheckIntrinsics(k, where);  // the same plausibility rules as files
   return k;
+}
+
+// The image limit of files (ZEROREG_MAX_IMAGE_PIXELS) for an array, checked before any copy.
+void RequireImageSize(const py::array& a, const std::string& where) {
+  const std::uint64_t limit = detail::MaxImagePixels();
+  const auto pixels =
+      static_cast<std::uint64_t>(a.shape(0)) * static_cast<std::uint64_t>(a.shape(1));
+  if (pixels > limit) {
+    throw MakeInputError(where, "shape " + ShapeString(a) + " is " + std::to_string(pixels) +
+                                    " pixels, more than the limit of " + std::to_string(limit) +
+                                    " (set ZEROREG_MAX_IMAGE_PIXELS to raise it)");
+  }
 }
 
 // RGB HxWx3 uint8 -> BGR CV_8UC3 (a copy: the View owns its pixels).
@@ -309,6 +317,7 @@ cv::Mat ColorFromPython(const py::handle& obj, const std::string& where) {
   if (a.ndim() != 3 || a.shape(2) != 3 || a.shape(0) == 0 || a.shape(1) == 0) {
     throw MakeInputError(where, "shape " + ShapeString(a) + "; expected (H, W, 3) uint8 RGB");
   }
+  RequireImageSize(a, where);
   const auto c = py::array_t<std::uint8_t, py::array::c_style>::ensure(a);
   const cv::Mat rgb(static_cast<int>(c.shape(0)), static_cast<int>(c.shape(1)), CV_8UC3,
                     const_cast<std::uint8_t*>(c.data()));
@@ -387,6 +396,7 @@ cv::Mat DepthFromPython(const py::handle& obj, const py::handle& depth_scale_obj
   if (cv::countNonZero(metres > 0.0f) == 0) {
     throw MakeInputError(where, "has no valid pixel (all 0 or 65535); expected some depth");
   }
+  detail::CheckDepthRange(metres, where, scale_where, is_u16 ? depth_scale_obj.cast<double>() : 0);
   return metres;
 }
 
@@ -475,6 +485,13 @@ Scan ScanFromPython(const py::handle& obj, const std::string& where) {
   if (!py::isinstance<py::list>(views) && !py::isinstance<py::tuple>(views)) {
     throw MakeInputError(where + ".views",
                          "got " + TypeName(views) + "; expected a list of views (dicts)");
+  }
+  const size_t max_views = detail::MaxViewsPerScan();
+  if (py::len(views) > max_views) {
+    throw MakeInputError(where + ".views", "holds " + std::to_string(py::len(views)) +
+                                               " views, more than the limit of " +
+                                               std::to_string(max_views) +
+                                               " per scan (set ZEROREG_MAX_VIEWS to raise it)");
   }
   size_t i = 0;
   for (const py::handle& v : views) {

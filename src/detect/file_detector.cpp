@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "detect/backends.hpp"
+#include "io/shown.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
@@ -45,8 +46,8 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
     if (!doc["image"].is_string()) throw MakeInputError(path, "\"image\" must be a string");
     const std::string named = FileName(doc["image"].get<std::string>());
     if (named != FileName(image_name)) {
-      throw MakeInputError(path, "\"image\" is '" + named + "' but the file was read for '" +
-                                     FileName(image_name) + "'");
+      throw MakeInputError(path, "\"image\" is '" + detail::ShownText(named) +
+                                     "' but the file was read for '" + FileName(image_name) + "'");
     }
   }
   if (!doc.contains("detections") || !doc["detections"].is_array()) {
@@ -78,15 +79,17 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
     }
     if (!(c[2] > c[0] && c[3] > c[1])) {
       throw MakeInputError(where, "\"box\" needs x2 > x1 and y2 > y1, got [" +
-                                      std::to_string(c[0]) + ", " + std::to_string(c[1]) + ", " +
-                                      std::to_string(c[2]) + ", " + std::to_string(c[3]) + "]");
+                                      detail::ShownNumber(c[0]) + ", " + detail::ShownNumber(c[1]) +
+                                      ", " + detail::ShownNumber(c[2]) + ", " +
+                                      detail::ShownNumber(c[3]) + "]");
     }
     const double t = kBorderTolerancePx;
     if (c[0] < -t || c[1] < -t || c[2] > W + t || c[3] > H + t) {
-      throw MakeInputError(where, "\"box\" [" + std::to_string(c[0]) + ", " + std::to_string(c[1]) +
-                                      ", " + std::to_string(c[2]) + ", " + std::to_string(c[3]) +
-                                      "] lies outside the " + std::to_string(bgr.cols) + "x" +
-                                      std::to_string(bgr.rows) + " image");
+      throw MakeInputError(where, "\"box\" [" + detail::ShownNumber(c[0]) + ", " +
+                                      detail::ShownNumber(c[1]) + ", " + detail::ShownNumber(c[2]) +
+                                      ", " + detail::ShownNumber(c[3]) + "] lies outside the " +
+                                      std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows) +
+                                      " image");
     }
     if (!d.contains("label") || !d["label"].is_string() || d["label"].get<std::string>().empty()) {
       throw MakeInputError(where, "missing key \"label\" (expected a non-empty string)");
@@ -97,7 +100,7 @@ std::vector<Detection> FileDetector::Detect(const cv::Mat& bgr, const std::strin
       score = d["score"].get<double>();
       if (!(score >= 0.0 && score <= 1.0)) {
         throw MakeInputError(
-            where, "\"score\" is " + std::to_string(score) + ", expected a value in [0, 1]");
+            where, "\"score\" is " + detail::ShownNumber(score) + ", expected a value in [0, 1]");
       }
     }
     if (score < config_.score_threshold) continue;

@@ -10,8 +10,10 @@
 #include <opencv2/imgproc.hpp>
 #include <regex>
 #include <sstream>
+#include <utility>
 
 #include "io/image_checks.hpp"
+#include "io/shown.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -73,10 +75,15 @@ double ResolveDepthScale(const DatasetOptions& options, double layout_default) {
       root, "frame id " + std::to_string(frame_id) + " not in the dataset (" + range + ")");
 }
 
-// Frame number from a digit string; -1 if it does not fit an int (such files are ignored).
+// Frame ids are at most 9 digits (they fit an int); files with longer numbers are ignored.
+constexpr int kMaxFrameId = 999999999;
+
+// Frame number from a digit string; -1 if it is above kMaxFrameId (leading zeros are fine).
 int FrameIdFromDigits(const std::string& digits) {
-  if (digits.empty() || digits.size() > 9) return -1;
-  return std::stoi(digits);
+  const size_t first = std::min(digits.find_first_not_of('0'), digits.size());
+  const std::string significant = digits.substr(first);
+  if (digits.empty() || significant.size() > 9) return -1;
+  return significant.empty() ? 0 : std::stoi(significant);
 }
 
 bool IsDirectory(const fs::path& p) {
@@ -86,6 +93,25 @@ bool IsDirectory(const fs::path& p) {
 bool IsFile(const fs::path& p) {
   std::error_code ec;
   return fs::is_regular_file(p, ec);
+}
+// For files a layout may or may not have (a frame's pose, TUM's ground truth): false when nothing
+// is at `p`; an InputError when something other than a regular file is (a folder named
+// frame-000000.pose.txt must not pass for "no ground truth").
+bool OptionalFile(const fs::path& p, const std::string& what) {
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(p, ec);
+  if (ec || !fs::exists(status)) return false;
+  if (IsFile(p)) return true;
+  throw MakeInputError(p.string(), what + " is not a regular file (" +
+                                       (fs::is_directory(status) ? "a folder" : "not a file") +
+                                       "); expected a file, or nothing at this path");
+}
+
+// Where a layout's depth scale came from, for messages about its consequences.
+std::string DepthScaleSource(const DatasetOptions& options, const char* layout) {
+  return options.depth_scale == 0.0
+             ? std::string("the ") + layout + " depth scale (set another with --depth-scale)"
+             : std::string("--depth-scale");
 }
 
 // ---- 3DMatch / 7-Scenes -------------------------------------------------------------------------
@@ -107,10 +133,12 @@ bool HasThreeDMatchFrames(const fs::path& folder) {
 
 class ThreeDMatchDataset : public Dataset {
  public:
-  ThreeDMatchDataset(const std::string& root, const fs::path& frames_dir, double depth_scale)
+  ThreeDMatchDataset(const std::string& root, const fs::path& frames_dir, double depth_scale,
+                     std::string scale_source)
       : root_(root),
         frames_dir_(frames_dir),
         depth_scale_(depth_scale),
+        scale_source_(std::move(scale_source)),
         name_(DatasetName(frames_dir)) {
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(frames_dir_, ec)) {
@@ -166,9 +194,12 @@ class ThreeDMatchDataset : public Dataset {
     const std::string color_path = (frames_dir_ / it->second).string();
     const std::string depth_path = (frames_dir_ / (stem + ".depth.png")).string();
     const fs::path pose_path = frames_dir_ / (stem + ".pose.txt");
-    View view = LoadView(color_path, depth_path, intrinsics_, depth_scale_);
+    View view = detail::LoadCheckedView(color_path, depth_path, intrinsics_, intrinsics_path_,
+                                        depth_scale_, scale_source_);
     view.name = name_ + "@" + std::to_string(frame_id);
-    if (IsFile(pose_path)) view.T_world_camera_gt = ReadPoseFile(pose_path.string());
+    if (OptionalFile(pose_path, "pose file")) {
+      view.T_world_camera_gt = ReadPoseFile(pose_path.string());
+    }
     return view;
   }
   double depth_scale() const override { return depth_scale_; }
@@ -184,6 +215,7 @@ class ThreeDMatchDataset : public Dataset {
   std::string root_;
   fs::path frames_dir_;
   double depth_scale_;
+  std::string scale_source_;
   std::string name_;
   std::string intrinsics_path_;
   Intrinsics intrinsics_;
@@ -218,6 +250,7 @@ void ForEachDataLine(const std::string& path, const std::string& what, Fn fn) {
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    if (line_number == 1) line = detail::WithoutByteOrderMark(line);
     const std::string trimmed = Trim(line);
     if (trimmed.empty() || trimmed[0] == '#') continue;
     std::istringstream ss(trimmed);
@@ -298,13 +331,19 @@ int NearestWithin(const std::vector<T>& sorted, double t, double max_dt) {
 
 class TumDataset : public Dataset {
  public:
-  TumDataset(const std::string& root, const fs::path& dir, double depth_scale)
-      : root_(root), dir_(dir), depth_scale_(depth_scale), name_(DatasetName(dir)) {
+  TumDataset(const std::string& root, const fs::path& dir, double depth_scale,
+             std::string scale_source)
+      : root_(root),
+        dir_(dir),
+        depth_scale_(depth_scale),
+        scale_source_(std::move(scale_source)),
+        name_(DatasetName(dir)) {
     const std::vector<TimedPath> rgb = ReadTumList((dir_ / "rgb.txt").string(), "rgb list");
     const std::vector<TimedPath> depth = ReadTumList((dir_ / "depth.txt").string(), "depth list");
     const fs::path gt_path = dir_ / "groundtruth.txt";
-    const std::vector<TimedPose> gt =
-        IsFile(gt_path) ? ReadTumGroundTruth(gt_path.string()) : std::vector<TimedPose>{};
+    const std::vector<TimedPose> gt = OptionalFile(gt_path, "ground-truth file")
+                                          ? ReadTumGroundTruth(gt_path.string())
+                                          : std::vector<TimedPose>{};
     // Each rgb image takes the depth image with the nearest timestamp (rgb without depth within
     // 0.02 s is dropped) and the nearest ground-truth pose within 0.02 s (none -> no ground truth).
     for (const TimedPath& c : rgb) {
@@ -322,8 +361,9 @@ class TumDataset : public Dataset {
     intrinsics_.cx = kTumDefaultCx;
     intrinsics_.cy = kTumDefaultCy;
     for (const char* name : {"camera-intrinsics.txt", "intrinsics.txt"}) {
-      if (IsFile(dir_ / name)) {
-        intrinsics_ = ReadIntrinsicsFile((dir_ / name).string(), 0, 0);
+      if (OptionalFile(dir_ / name, "intrinsics file")) {
+        intrinsics_path_ = (dir_ / name).string();
+        intrinsics_ = ReadIntrinsicsFile(intrinsics_path_, 0, 0);
         break;
       }
     }
@@ -341,7 +381,8 @@ class TumDataset : public Dataset {
       ThrowUnknownFrame(root_, frame_id, FrameIds());
     }
     const Frame& frame = frames_[static_cast<size_t>(frame_id)];
-    View view = LoadView(frame.color, frame.depth, intrinsics_, depth_scale_);
+    View view = detail::LoadCheckedView(frame.color, frame.depth, intrinsics_, intrinsics_path_,
+                                        depth_scale_, scale_source_);
     view.name = name_ + "@" + std::to_string(frame_id);
     view.T_world_camera_gt = frame.T_world_camera;
     return view;
@@ -368,7 +409,9 @@ class TumDataset : public Dataset {
   std::string root_;
   fs::path dir_;
   double depth_scale_;
+  std::string scale_source_;
   std::string name_;
+  std::string intrinsics_path_;  // empty: TUM's documented default
   Intrinsics intrinsics_;
   std::vector<Frame> frames_;
 };
@@ -382,8 +425,13 @@ bool AllDigits(const std::string& s) {
 
 class ScanNetDataset : public Dataset {
  public:
-  ScanNetDataset(const std::string& root, const fs::path& dir, double depth_scale)
-      : root_(root), dir_(dir), depth_scale_(depth_scale), name_(DatasetName(dir)) {
+  ScanNetDataset(const std::string& root, const fs::path& dir, double depth_scale,
+                 std::string scale_source)
+      : root_(root),
+        dir_(dir),
+        depth_scale_(depth_scale),
+        scale_source_(std::move(scale_source)),
+        name_(DatasetName(dir)) {
     std::error_code ec;
     for (const auto& entry : fs::directory_iterator(dir_ / "color", ec)) {
       const fs::path p = entry.path();
@@ -400,7 +448,8 @@ class ScanNetDataset : public Dataset {
                            "no N.jpg colour images; expected a ScanNet SensReader export");
     }
     // Colour is resized to the depth image, so the depth camera's intrinsics apply to both.
-    intrinsics_ = ReadIntrinsicsFile((dir_ / "intrinsic" / "intrinsic_depth.txt").string(), 0, 0);
+    intrinsics_path_ = (dir_ / "intrinsic" / "intrinsic_depth.txt").string();
+    intrinsics_ = ReadIntrinsicsFile(intrinsics_path_, 0, 0);
   }
 
   DatasetLayout layout() const override { return DatasetLayout::kScanNet; }
@@ -416,6 +465,7 @@ class ScanNetDataset : public Dataset {
     const fs::path pose_path = dir_ / "pose" / (stem + ".txt");
     cv::Mat color = ReadColorImage(color_path);
     const cv::Mat depth = ReadDepthImage(depth_path, depth_scale_);
+    detail::CheckDepthRange(depth, depth_path, scale_source_, depth_scale_);
     if (color.size() != depth.size()) {
       // ScanNet colour (1296x968) and depth (640x480) come from different sensors; the standard
       // practice is to resample colour onto the depth grid and use the depth intrinsics.
@@ -424,8 +474,8 @@ class ScanNetDataset : public Dataset {
       color = resized;
     }
     View view = detail::MakeCheckedView(name_ + "@" + std::to_string(frame_id), color, color_path,
-                                        depth, depth_path, intrinsics_);
-    if (IsFile(pose_path)) {
+                                        depth, depth_path, intrinsics_, intrinsics_path_);
+    if (OptionalFile(pose_path, "pose file")) {
       const std::vector<double> n = detail::ReadNumbers(pose_path.string(), "pose file");
       // SensReader writes -inf for frames whose tracking was lost: no ground truth there.
       const bool has_inf = std::any_of(n.begin(), n.end(), [](double v) { return std::isinf(v); });
@@ -447,7 +497,9 @@ class ScanNetDataset : public Dataset {
   std::string root_;
   fs::path dir_;
   double depth_scale_;
+  std::string scale_source_;
   std::string name_;
+  std::string intrinsics_path_;
   Intrinsics intrinsics_;
   std::map<int, std::string> colors_;  // id -> colour file name
 };
@@ -466,18 +518,22 @@ std::unique_ptr<Dataset> OpenDataset(const std::string& root, const DatasetOptio
   if (!IsDirectory(dir)) throw MakeInputError(root, "is not a folder; expected a dataset folder");
   if (HasThreeDMatchFrames(dir)) {
     return std::make_unique<ThreeDMatchDataset>(root, dir,
-                                                ResolveDepthScale(options, kThreeDMatchDepthScale));
+                                                ResolveDepthScale(options, kThreeDMatchDepthScale),
+                                                DepthScaleSource(options, "3DMatch"));
   }
   if (HasThreeDMatchFrames(dir / "frames")) {
     return std::make_unique<ThreeDMatchDataset>(root, dir / "frames",
-                                                ResolveDepthScale(options, kThreeDMatchDepthScale));
+                                                ResolveDepthScale(options, kThreeDMatchDepthScale),
+                                                DepthScaleSource(options, "3DMatch"));
   }
   if (IsFile(dir / "rgb.txt") && IsFile(dir / "depth.txt")) {
-    return std::make_unique<TumDataset>(root, dir, ResolveDepthScale(options, kTumDepthScale));
+    return std::make_unique<TumDataset>(root, dir, ResolveDepthScale(options, kTumDepthScale),
+                                        DepthScaleSource(options, "TUM"));
   }
   if (IsDirectory(dir / "color") && IsDirectory(dir / "depth")) {
     return std::make_unique<ScanNetDataset>(root, dir,
-                                            ResolveDepthScale(options, kScanNetDepthScale));
+                                            ResolveDepthScale(options, kScanNetDepthScale),
+                                            DepthScaleSource(options, "ScanNet"));
   }
   throw MakeInputError(root,
                        "unrecognised dataset layout; expected 3DMatch (frame-XXXXXX.color.jpg here "
@@ -504,9 +560,14 @@ Scan LoadScan(const std::string& spec, const DatasetOptions& options) {
   if (!exists && at != std::string::npos) {
     const std::string dir = spec.substr(0, at);
     const std::string number = spec.substr(at + 1);
-    if (!AllDigits(number) || number.size() > 9) {
-      throw MakeInputError(
-          spec, "frame id '" + number + "' is not a non-negative integer; expected DIR@N");
+    if (!AllDigits(number)) {
+      throw MakeInputError(spec, "frame id '" + detail::ShownText(number) +
+                                     "' is not a non-negative integer; expected DIR@N");
+    }
+    if (FrameIdFromDigits(number) < 0) {
+      throw MakeInputError(spec, "frame id " + detail::ShownText(number) +
+                                     " is out of range; expected DIR@N with N in [0, " +
+                                     std::to_string(kMaxFrameId) + "]");
     }
     if (!IsDirectory(dir))
       throw MakeInputError(spec, "dataset folder '" + dir + "' not found; expected DIR@N");
@@ -531,10 +592,15 @@ Scan LoadScan(const std::string& spec, const DatasetOptions& options) {
     fs::path folder = path.parent_path();
     if (folder.empty()) folder = ".";
     const ThreeDMatchDataset dataset(folder.string(), folder,
-                                     ResolveDepthScale(options, kThreeDMatchDepthScale));
+                                     ResolveDepthScale(options, kThreeDMatchDepthScale),
+                                     DepthScaleSource(options, "3DMatch"));
     const int id = FrameIdFromDigits(m[1].str());
-    if (id < 0)
-      throw MakeInputError(spec, "frame number too large; expected frame-XXXXXX.color.jpg");
+    if (id < 0) {
+      throw MakeInputError(spec,
+                           "frame number is out of range; expected frame-N.color.jpg with N "
+                           "in [0, " +
+                               std::to_string(kMaxFrameId) + "]");
+    }
     return ScanFromView(dataset.LoadFrame(id));
   }
   throw MakeInputError(spec,

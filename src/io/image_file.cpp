@@ -1,5 +1,6 @@
 #include "io/image_file.hpp"
 
+#include <algorithm>
 #include <fstream>
 
 #include "io/file_bytes.hpp"
@@ -10,6 +11,7 @@ namespace zeroreg::detail {
 namespace {
 
 constexpr double kDefaultMaxImagePixels = 100e6;
+constexpr double kDefaultMaxViewsPerScan = 64;
 
 std::uint32_t BigEndian32(const std::vector<std::uint8_t>& b, size_t i) {
   return (std::uint32_t{b[i]} << 24) | (std::uint32_t{b[i + 1]} << 16) |
@@ -50,8 +52,16 @@ ImageHeader InspectJpeg(const std::vector<std::uint8_t>& b) {
   h.format = "JPEG";
   h.complete = false;
   size_t i = 2;
+  // A file that ends with the end-of-image marker but whose segments do not lead to it is
+  // complete and corrupt, not truncated.
+  const bool ends_with_eoi = b.size() >= 4 && b[b.size() - 2] == 0xFF && b[b.size() - 1] == 0xD9;
+  const auto broken = [&](size_t at) {
+    h.corrupt = true;
+    h.corrupt_offset = at;
+    return h;
+  };
   while (i + 1 < b.size()) {
-    if (b[i] != 0xFF) return h;  // not at a marker: corrupt; the decoder decides
+    if (b[i] != 0xFF) return broken(i);  // not at a marker
     const unsigned marker = b[i + 1];
     if (marker == 0xFF) {  // fill byte
       ++i;
@@ -65,8 +75,9 @@ ImageHeader InspectJpeg(const std::vector<std::uint8_t>& b) {
       i += 2;
       continue;
     }
-    if (i + 3 >= b.size()) return h;
+    if (i + 3 >= b.size()) return ends_with_eoi ? broken(i) : h;
     const size_t length = BigEndian16(b, i + 2);
+    if (length < 2) return broken(i);  // a segment length counts its own two bytes
     if (IsStartOfFrame(marker) && i + 8 < b.size()) {
       h.known = true;
       h.height = BigEndian16(b, i + 5);
@@ -80,7 +91,8 @@ ImageHeader InspectJpeg(const std::vector<std::uint8_t>& b) {
       }
     }
   }
-  return h;
+  // Ran past the end: a segment's length pointed beyond the file.
+  return ends_with_eoi ? broken(std::min(i, b.size())) : h;
 }
 
 }  // namespace
@@ -88,6 +100,11 @@ ImageHeader InspectJpeg(const std::vector<std::uint8_t>& b) {
 std::uint64_t MaxImagePixels() {
   return static_cast<std::uint64_t>(
       LimitFromEnvironment("ZEROREG_MAX_IMAGE_PIXELS", kDefaultMaxImagePixels));
+}
+
+size_t MaxViewsPerScan() {
+  const double limit = LimitFromEnvironment("ZEROREG_MAX_VIEWS", kDefaultMaxViewsPerScan);
+  return limit < 1 ? 1 : static_cast<size_t>(std::min(limit, 1e9));
 }
 
 ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes) {
@@ -117,6 +134,12 @@ cv::Mat ReadImageFile(const std::string& path, const std::string& what, ImageMod
                                    " pixels, more than the limit of " + std::to_string(limit) +
                                    " pixels (set ZEROREG_MAX_IMAGE_PIXELS to raise it)");
   }
+  if (header.corrupt) {
+    throw MakeInputError(
+        path, what + " is a corrupt " + header.format + " file (its structure is broken at byte " +
+                  std::to_string(header.corrupt_offset) + " of " + std::to_string(bytes.size()) +
+                  "); expected an image file that decodes");
+  }
   if (!header.complete) {
     throw MakeInputError(path,
                          what + " is a truncated " + header.format + " file (" +
@@ -127,7 +150,8 @@ cv::Mat ReadImageFile(const std::string& path, const std::string& what, ImageMod
   try {
     image = DecodeImage(bytes, mode);
   } catch (const std::exception& e) {
-    throw MakeInputError(path, what + " cannot be decoded: " + e.what());
+    throw MakeInputError(path, what + " is corrupt and cannot be decoded (" + e.what() +
+                                   "); expected an image file that decodes");
   }
   if (!image.empty() && static_cast<std::uint64_t>(image.total()) > limit) {
     throw MakeInputError(path, what + " has " + std::to_string(image.total()) +

@@ -4,6 +4,7 @@
 // image (libjpeg only prints "Premature end of JPEG file").
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
@@ -17,13 +18,23 @@ namespace zeroreg::detail {
 // else 100 million (10000 x 10000; RGB-D cameras give at most a few million).
 std::uint64_t MaxImagePixels();
 
+// Most views one scan may hold (scan.json's "views", a Python scan's views):
+// $ZEROREG_MAX_VIEWS when set (a number >= 1), else 64. Each view costs ~10 MiB while a scan is
+// registered (images, depth, features, masks), so 64 views stay under 1 GiB; a scan is a handful
+// of views in practice (3 for a 3DMatch fragment).
+size_t MaxViewsPerScan();
+
 // What the header of an in-memory image file says. `known` is false for formats other than PNG
 // and JPEG, whose size is then checked after decoding.
 struct ImageHeader {
   bool known = false;
   std::uint64_t width = 0, height = 0;
   bool complete = true;  // PNG: IEND chunk present; JPEG: end-of-image marker reached
-  std::string format;    // "PNG", "JPEG" or ""
+  // JPEG: the segments do not chain up to the end-of-image marker (bytes where a marker belongs,
+  // a length that is impossible or runs past an end-of-image marker that is there).
+  bool corrupt = false;
+  size_t corrupt_offset = 0;
+  std::string format;  // "PNG", "JPEG" or ""
 };
 ImageHeader InspectImageHeader(const std::vector<std::uint8_t>& bytes);
 

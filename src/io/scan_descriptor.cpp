@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "io/image_checks.hpp"
+#include "io/image_file.hpp"
+#include "io/shown.hpp"
 #include "io/text_parsing.hpp"
 #include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
@@ -32,7 +34,8 @@ void CheckKeys(const json& object, const std::set<std::string>& allowed, const s
     if (allowed.count(item.key()) == 0) {
       std::string list;
       for (const auto& key : allowed) list += (list.empty() ? "" : ", ") + key;
-      throw MakeInputError(path, where + "unknown key '" + item.key() + "'; allowed keys: " + list);
+      throw MakeInputError(path, where + "unknown key '" + detail::ShownText(item.key()) +
+                                     "'; allowed keys: " + list);
     }
   }
 }
@@ -58,7 +61,8 @@ int GetImageSide(const json& object, const std::string& key, const std::string& 
   const json& v = object.at(key);
   const double x = v.is_number() ? v.get<double>() : 0.0;
   if (!v.is_number() || !(x >= 1 && x <= 65535) || x != std::floor(x)) {
-    throw MakeInputError(path, where + "'" + key + "' is " + detail::DumpJson(v) +
+    throw MakeInputError(path, where + "'" + key + "' is " +
+                                   detail::ShownText(detail::DumpJson(v)) +
                                    "; expected a whole number of pixels in [1, 65535]");
   }
   return static_cast<int>(x);
@@ -176,6 +180,13 @@ ScanDescriptor ReadScanDescriptor(const std::string& path) {
     throw MakeInputError(path, "'views' missing or empty; expected an array of at least one view");
   }
   const json& views = j.at("views");
+  const size_t max_views = detail::MaxViewsPerScan();
+  if (views.size() > max_views) {
+    throw MakeInputError(path, "'views' lists " + std::to_string(views.size()) +
+                                   " views, more than the limit of " + std::to_string(max_views) +
+                                   " per scan (each costs ~10 MiB while registering; set "
+                                   "ZEROREG_MAX_VIEWS to raise it)");
+  }
   for (size_t k = 0; k < views.size(); ++k) {
     d.views.push_back(ParseView(views[k], path, dir, "views[" + std::to_string(k) + "]: "));
   }
@@ -193,8 +204,10 @@ Scan LoadScanFromDescriptor(const std::string& path) {
   scan.T_world_scan_gt = d.T_world_scan_gt;
   for (size_t k = 0; k < d.views.size(); ++k) {
     const ScanDescriptorView& dv = d.views[k];
-    View view = LoadView(detail::ResolvePath(dir, dv.color), detail::ResolvePath(dir, dv.depth),
-                         dv.intrinsics, dv.depth_scale);
+    const std::string where = path + ": views[" + std::to_string(k) + "]";
+    View view = detail::LoadCheckedView(
+        detail::ResolvePath(dir, dv.color), detail::ResolvePath(dir, dv.depth), dv.intrinsics,
+        where + " intrinsics", dv.depth_scale, where + ".depth_scale");
     if ((dv.intrinsics.width > 0 && dv.intrinsics.width != view.intrinsics.width) ||
         (dv.intrinsics.height > 0 && dv.intrinsics.height != view.intrinsics.height)) {
       throw MakeInputError(path, "views[" + std::to_string(k) + "]: intrinsics are for " +

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/shown.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg::detail {
@@ -156,6 +157,11 @@ bool ParseDouble(const std::string& token, double* value) {
   return true;
 }
 
+std::string WithoutByteOrderMark(const std::string& line) {
+  // Windows editors (Notepad) start UTF-8 text with EF BB BF; it is not part of the first value.
+  return line.rfind("\xEF\xBB\xBF", 0) == 0 ? line.substr(3) : line;
+}
+
 std::vector<double> ReadNumbers(const std::string& path, const std::string& what) {
   RequireFile(path, what);
   std::ifstream in(path);
@@ -165,13 +171,19 @@ std::vector<double> ReadNumbers(const std::string& path, const std::string& what
   int line_number = 0;
   while (std::getline(in, line)) {
     ++line_number;
+    if (line_number == 1) line = WithoutByteOrderMark(line);
     std::istringstream tokens(line);
     std::string token;
     while (tokens >> token) {
       double v = 0.0;
       if (!ParseDouble(token, &v)) {
-        throw MakeInputError(path, "line " + std::to_string(line_number) + ": '" + token +
-                                       "' is not a number (" + what + " must hold only numbers)");
+        const std::string invisible = InvisibleCharacters(token);
+        throw MakeInputError(path, "line " + std::to_string(line_number) + ": '" +
+                                       ShownText(token) + "' is not a number (" +
+                                       (invisible.empty() ? ""
+                                                          : "it holds the invisible character(s) " +
+                                                                invisible + "; ") +
+                                       what + " must hold only numbers)");
       }
       numbers.push_back(v);
     }
@@ -222,7 +234,7 @@ Transform RigidFromNumbers(const std::vector<double>& numbers, const std::string
 
 void CheckDepthScale(double depth_scale, const std::string& where) {
   if (!std::isfinite(depth_scale) || depth_scale <= 0.0) {
-    throw MakeInputError(where, "depth_scale " + std::to_string(depth_scale) +
+    throw MakeInputError(where, "depth_scale " + ShownNumber(depth_scale) +
                                     " is invalid; expected a finite number > 0 (raw units per "
                                     "metre, e.g. 1000 for millimetres)");
   }

@@ -37,8 +37,12 @@ double LimitFromEnvironment(const char* name, double default_value);
 // interpret). Returns false if the token is not entirely a number.
 bool ParseDouble(const std::string& token, double* value);
 
+// `line` without a leading UTF-8 byte order mark (the first line of a text file).
+std::string WithoutByteOrderMark(const std::string& line);
+
 // All numbers of a small text file, in order. A token that is not a number is an InputError
-// naming the file, the line and the token. A missing file is an InputError naming `what`.
+// naming the file, the line and the token (invisible characters in it named). A leading UTF-8 byte
+// order mark is skipped. A missing file is an InputError naming `what`.
 std::vector<double> ReadNumbers(const std::string& path, const std::string& what);
 
 // Interprets 16 row-major numbers as a rigid transform and checks it: finite, last row 0 0 0 1,

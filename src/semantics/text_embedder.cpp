@@ -7,6 +7,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "io/shown.hpp"
 #include "semantics/label_aliases.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
@@ -158,7 +159,7 @@ std::optional<Eigen::VectorXf> ClipTableEmbedder::Embed(const std::string& label
   if (it == rows_.end()) it = rows_.find(Lower(CocoSpelling(key)));  // "diningtable"
   if (it != rows_.end()) return it->second;
   if (warned_.insert(key).second) {
-    std::cerr << "warning: label '" << label
+    std::cerr << "warning: label '" << detail::ShownText(label)
               << "' is in no CLIP table (COCO, Objects365, OpenImages, LVIS); it is compared by "
                  "label equality only\n";
   }

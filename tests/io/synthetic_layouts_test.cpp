@@ -38,9 +38,10 @@ void WriteTum(const TempDir& dir) {
                 {"depth/1.040.png", 10000},
                 {"depth/1.060.png", 7500},
                 {"depth/1.150.png", 2500}};
-  for (const auto& d : depths) WriteDepth(dir.File(d.name), 4, 3, d.raw);
+  // 640x480: TUM's intrinsics put the principal point near (320, 240), which must lie in the image.
+  for (const auto& d : depths) WriteDepth(dir.File(d.name), 640, 480, d.raw);
   for (const char* name : {"rgb/1.000.png", "rgb/1.033.png", "rgb/1.100.png", "rgb/1.133.png"}) {
-    WriteColor(dir.File(name), 4, 3);
+    WriteColor(dir.File(name), 640, 480);
   }
   WriteText(
       dir.File("rgb.txt"),
@@ -87,8 +88,8 @@ TEST(IoTum, AssociationDepthScaleAndPoses) {
   EXPECT_EQ(f0.intrinsics.fy, 525.0);
   EXPECT_EQ(f0.intrinsics.cx, 319.5);
   EXPECT_EQ(f0.intrinsics.cy, 239.5);
-  EXPECT_EQ(f0.intrinsics.width, 4);
-  EXPECT_EQ(f0.intrinsics.height, 3);
+  EXPECT_EQ(f0.intrinsics.width, 640);
+  EXPECT_EQ(f0.intrinsics.height, 480);
 
   // DIR@N goes through the same dataset.
   const Scan scan = LoadScan(dir.path().string() + "@2");
@@ -111,15 +112,15 @@ TEST(IoTum, IntrinsicsFileAndDepthScaleOverride) {
   ExpectUniformDepth(f0.depth, 5.0f);  // 5000 / 1000
 }
 
-// SensReader export: colour 8x6 (stands for 1296x968), depth 4x3, 4x4 depth intrinsics, frame 1
-// has an invalid (-inf) pose.
+// SensReader export: colour 1280x960 (stands for 1296x968), depth 640x480, 4x4 depth intrinsics,
+// frame 1 has an invalid (-inf) pose.
 void WriteScanNet(const TempDir& dir) {
-  WriteColor(dir.File("color/0.jpg"), 8, 6, cv::Scalar(40, 100, 220));
-  WriteColor(dir.File("color/1.jpg"), 8, 6);
-  WriteColor(dir.File("color/10.jpg"), 8, 6);
-  WriteDepth(dir.File("depth/0.png"), 4, 3, 1500);
-  WriteDepth(dir.File("depth/1.png"), 4, 3, 700);
-  WriteDepth(dir.File("depth/10.png"), 4, 3, 2000);
+  WriteColor(dir.File("color/0.jpg"), 1280, 960, cv::Scalar(40, 100, 220));
+  WriteColor(dir.File("color/1.jpg"), 1280, 960);
+  WriteColor(dir.File("color/10.jpg"), 1280, 960);
+  WriteDepth(dir.File("depth/0.png"), 640, 480, 1500);
+  WriteDepth(dir.File("depth/1.png"), 640, 480, 700);
+  WriteDepth(dir.File("depth/10.png"), 640, 480, 2000);
   WriteText(dir.File("pose/0.txt"), MatrixText(SomePose()));
   std::string inf;
   for (int k = 0; k < 16; ++k) inf += (k % 4 == 3) ? "-inf\n" : "-inf ";
@@ -140,7 +141,7 @@ TEST(IoScanNet, ResizesColourUsesDepthIntrinsicsAndPoses) {
   EXPECT_EQ(dataset->FrameIds(), (std::vector<int>{0, 1, 10}));
 
   const View f0 = dataset->LoadFrame(0);
-  EXPECT_EQ(f0.color.size(), cv::Size(4, 3));
+  EXPECT_EQ(f0.color.size(), cv::Size(640, 480));
   EXPECT_EQ(f0.color.type(), CV_8UC3);
   const cv::Vec3b pixel = f0.color.at<cv::Vec3b>(1, 2);
   EXPECT_NEAR(pixel[0], 40, 3);  // uniform colour survives JPEG + INTER_AREA
@@ -151,7 +152,7 @@ TEST(IoScanNet, ResizesColourUsesDepthIntrinsicsAndPoses) {
   EXPECT_EQ(f0.intrinsics.fy, 578.729797);
   EXPECT_EQ(f0.intrinsics.cx, 318.905426);
   EXPECT_EQ(f0.intrinsics.cy, 242.683609);
-  EXPECT_EQ(f0.intrinsics.width, 4);
+  EXPECT_EQ(f0.intrinsics.width, 640);
   ASSERT_TRUE(f0.T_world_camera_gt.has_value());
   EXPECT_LT((*f0.T_world_camera_gt - SomePose()).cwiseAbs().maxCoeff(), 1e-15);
 
