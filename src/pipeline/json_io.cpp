@@ -33,6 +33,10 @@ Range Positive() { return {0, kInf, true, false}; }
 Range Between(double min, double max, bool min_open = false) { return {min, max, min_open, false}; }
 Range Open(double min, double max) { return {min, max, true, true}; }
 Range Fraction() { return {0, 1, false, false}; }
+// Iteration and search counts are bounded, so that every accepted setting finishes (an int's
+// 2147483647 Sinkhorn iterations would run for days): 20x to 500x the default
+// (docs/FORMATS.md, "Limits").
+Range Iterations(double min, double max) { return Between(min, max); }
 
 std::string FormatNumber(double x) {
   // Whole numbers in full (2147483647, not 2.14748e+09), others with enough digits.
@@ -70,7 +74,7 @@ void Visit(V& v, FeatureConfig& c) {
 }
 template <typename V>
 void Visit(V& v, SinkhornConfig& c) {
-  v("iterations", c.iterations, AtLeast(1));
+  v("iterations", c.iterations, Iterations(1, 1000));
   v("temperature", c.temperature, Positive());
   v("dustbin_score", c.dustbin_score);
   v("min_probability", c.min_probability, Fraction());
@@ -94,15 +98,16 @@ void Visit(V& v, LiftConfig& c) {
 template <typename V>
 void Visit(V& v, RansacConfig& c) {
   v("inlier_threshold_m", c.inlier_threshold_m, Positive());
-  v("max_iterations", c.max_iterations, AtLeast(1));
+  v("max_iterations", c.max_iterations, Iterations(1, 10000000));
   v("confidence", c.confidence, Open(0, 1));
   v("min_inliers", c.min_inliers, AtLeast(3));  // a rigid transform needs 3 points
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("min_inlier_spread_m", c.min_inlier_spread_m, AtLeast(0));
   v("estimator", c.estimator);
-  v("clique_max_correspondences", c.clique_max_correspondences, AtLeast(3));
+  // The graph holds n^2 / 8 bytes: 20000 correspondences are 50 MB.
+  v("clique_max_correspondences", c.clique_max_correspondences, Iterations(3, 20000));
   v("clique_noise_bound_m", c.clique_noise_bound_m, AtLeast(0));
-  v("clique_max_search_nodes", c.clique_max_search_nodes, AtLeast(1));
+  v("clique_max_search_nodes", c.clique_max_search_nodes, Iterations(1, 1000000));
 }
 template <typename V>
 void Visit(V& v, VerifyConfig& c) {
@@ -127,7 +132,7 @@ void Visit(V& v, RefineConfig& c) {
   v("pixel_stride", c.pixel_stride, AtLeast(0));
   v("voxel_coarse_m", c.voxel_coarse_m, Positive());
   v("max_distance_coarse_m", c.max_distance_coarse_m, Positive());
-  v("coarse_iterations", c.coarse_iterations, AtLeast(0));
+  v("coarse_iterations", c.coarse_iterations, Iterations(0, 1000));
   v("voxel_m", c.voxel_m, Positive());
   v("max_distance_m", c.max_distance_m, Positive());
   v("max_distance_final_m", c.max_distance_final_m, Positive());
@@ -138,7 +143,7 @@ void Visit(V& v, RefineConfig& c) {
   v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
   v("before_fallback", c.before_fallback);
-  v("max_iterations", c.max_iterations, AtLeast(0));
+  v("max_iterations", c.max_iterations, Iterations(0, 1000));
 }
 template <typename V>
 void Visit(V& v, DetectorConfig& c) {
@@ -152,7 +157,7 @@ void Visit(V& v, DetectorConfig& c) {
 template <typename V>
 void Visit(V& v, SegmenterConfig& c) {
   v("backend", c.backend);
-  v("grabcut_iterations", c.grabcut_iterations, AtLeast(1));
+  v("grabcut_iterations", c.grabcut_iterations, Iterations(1, 50));
   v("working_size_px", c.working_size_px, AtLeast(8));
   v("crop_margin_fraction", c.crop_margin_fraction, AtLeast(0));
   v("depth_band_min_m", c.depth_band_min_m, AtLeast(0));
@@ -209,8 +214,8 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("motion_agreement", c.motion_agreement);
   v("complete_by_motion", c.complete_by_motion);
   v("agree_with_result", c.agree_with_result);
-  v("restarts", c.restarts, AtLeast(1));
-  v("iterations", c.iterations, AtLeast(1));
+  v("restarts", c.restarts, Iterations(1, 100));
+  v("iterations", c.iterations, Iterations(1, 1000));
 }
 template <typename V>
 void Visit(V& v, MethodConfig& c) {

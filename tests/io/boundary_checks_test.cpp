@@ -193,6 +193,26 @@ TEST(CliBoundaryChecks, MisspeltCommandIsNamedWithTheNearest) {
       << r.output;
 }
 
+// Every iteration count of the config is bounded, so that no accepted setting runs for ever.
+TEST_F(BoundaryChecks, IterationCountsAreBounded) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"match.sinkhorn.iterations=2147483647", "expected an integer in [1, 1000]"},
+      {"ransac.max_iterations=10000001", "expected an integer in [1, 10000000]"},
+      {"ransac.clique_max_search_nodes=1000001", "expected an integer in [1, 1000000]"},
+      {"ransac.clique_max_correspondences=20001", "expected an integer in [3, 20000]"},
+      {"refine.coarse_iterations=1001", "expected an integer in [0, 1000]"},
+      {"refine.max_iterations=1001", "expected an integer in [0, 1000]"},
+      {"segmenter.grabcut_iterations=51", "expected an integer in [1, 50]"},
+      {"object_match.restarts=101", "expected an integer in [1, 100]"},
+      {"object_match.iterations=1001", "expected an integer in [1, 1000]"},
+  };
+  for (const auto& [assignment, message] : cases) {
+    ExpectClearError(
+        RunCli("register -s '" + Path("") + "@20' -t '" + Path("") + "@0' --set " + assignment, 60),
+        std::string("--set ") + assignment, message);
+  }
+}
+
 TEST(IoBoundaryChecks, EchoedValuesAreBounded) {
   const std::string label(1 << 20, 'x');
   const std::string shown = detail::ShownText(label);
