@@ -643,7 +643,8 @@ std::vector<std::string> ScanInputFiles(const std::string& spec, const DatasetOp
     fs::path folder = path.parent_path();
     if (folder.empty()) folder = ".";
     const ThreeDMatchDataset dataset(folder.string(), folder,
-                                     ResolveDepthScale(options, kThreeDMatchDepthScale));
+                                     ResolveDepthScale(options, kThreeDMatchDepthScale),
+                                     DepthScaleSource(options, "3DMatch"));
     const int id = FrameIdFromDigits(m[1].str());
     if (id >= 0) return dataset.FrameFiles(id);
   }
