@@ -155,6 +155,8 @@ int Run(int argc, char** argv) {
   int every = 0;
   double positive = 0.3;
   bool keyframes_only = false;
+  int rerank = 0;
+  float min_cosine = 0.8f;
   app.add_option("--data", data, "folder of the scenes");
   app.add_option("--sessions", sessions_file, "sessions list (scene, A range, B range)");
   app.add_option("--scene", only, "only this scene");
@@ -163,6 +165,8 @@ int Run(int argc, char** argv) {
   app.add_option("--words", vc.words, "vocabulary size");
   app.add_option("--seed", vc.seed, "k-means seed");
   app.add_option("--positive", positive, "co-visibility of a true loop-closure pair");
+  app.add_option("--rerank", rerank, "re-rank the N best by mutual descriptor matches (0: off)");
+  app.add_option("--min-cosine", min_cosine, "re-ranking: a match's minimum cosine");
   app.add_flag("--keyframes-only", keyframes_only, "count keyframes, no place recognition");
   try {
     app.parse(argc, argv);
@@ -182,10 +186,12 @@ int Run(int argc, char** argv) {
     extractor = MakeFeatureExtractor(pipeline.features, ResolveAssetsDir(pipeline.assets_dir),
                                      pipeline.inference);
   }
-  std::printf("keyframes: %s; vocabulary %d words, seed %llu; positive: co-visibility >= %.2f\n",
-              every > 0 ? ("every " + std::to_string(every) + " frames").c_str()
-                        : ("co-visibility < " + std::to_string(kf.covisibility_threshold)).c_str(),
-              vc.words, static_cast<unsigned long long>(vc.seed), positive);
+  std::printf(
+      "keyframes: %s; vocabulary %d words, seed %llu; re-rank %d (cosine %.2f); "
+      "positive: co-visibility >= %.2f\n",
+      every > 0 ? ("every " + std::to_string(every) + " frames").c_str()
+                : ("co-visibility < " + std::to_string(kf.covisibility_threshold)).c_str(),
+      vc.words, static_cast<unsigned long long>(vc.seed), rerank, min_cosine, positive);
   std::printf(
       "| scene | frames A/B | keyframes A/B | queries | R@1 | R@5 | R@10 | chance@10 |"
       " XFeat ms/kf |\n|---|---|---|---|---|---|---|---|---|\n");
@@ -234,7 +240,14 @@ int Run(int argc, char** argv) {
       chance1 += Chance(static_cast<int>(a.size()), positives, 1);
       chance += Chance(static_cast<int>(a.size()), positives, 10);
       const int query = static_cast<int>(a.size() + j);
-      const std::vector<PlaceCandidate> ranked = index.Rank(query, database, 10);
+      std::vector<PlaceCandidate> ranked = index.Rank(query, database, std::max(10, rerank));
+      if (rerank > 0) {  // the first `rerank` re-ordered, the rest after them as they were
+        const std::size_t n =
+            std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(rerank));
+        std::vector<PlaceCandidate> head(ranked.begin(), ranked.begin() + n);
+        head = RerankByMatches(head, query, sets, min_cosine);
+        std::copy(head.begin(), head.end(), ranked.begin());
+      }
       for (int t = 0; t < 3; ++t) {
         for (int r = 0; r < ks[t] && r < static_cast<int>(ranked.size()); ++r) {
           if (right[static_cast<std::size_t>(ranked[static_cast<std::size_t>(r)].id)]) {

@@ -255,6 +255,59 @@ std::vector<PlaceCandidate> PlaceIndex::Rank(int query, const std::vector<int>& 
   return all;
 }
 
+int MutualMatches(const Eigen::MatrixXf& a, const Eigen::MatrixXf& b, float min_cosine,
+                  int max_rows) {
+  if (a.rows() > 0 && b.rows() > 0 && a.cols() != b.cols()) {
+    throw InputError("MutualMatches: descriptors of " + std::to_string(a.cols()) + " and " +
+                     std::to_string(b.cols()) + " dimensions: expected one dimension");
+  }
+  const Eigen::Index na = std::min<Eigen::Index>(a.rows(), max_rows);
+  const Eigen::Index nb = std::min<Eigen::Index>(b.rows(), max_rows);
+  if (na == 0 || nb == 0) return 0;
+  const Eigen::MatrixXf s = a.topRows(na) * b.topRows(nb).transpose();
+  // Best column of each row and best row of each column; ties go to the lower index.
+  std::vector<Eigen::Index> row_best(static_cast<std::size_t>(na), 0);
+  std::vector<Eigen::Index> col_best(static_cast<std::size_t>(nb), 0);
+  for (Eigen::Index i = 0; i < na; ++i) {
+    for (Eigen::Index j = 0; j < nb; ++j) {
+      if (s(i, j) > s(i, row_best[static_cast<std::size_t>(i)])) {
+        row_best[static_cast<std::size_t>(i)] = j;
+      }
+      if (s(i, j) > s(col_best[static_cast<std::size_t>(j)], j)) {
+        col_best[static_cast<std::size_t>(j)] = i;
+      }
+    }
+  }
+  int matches = 0;
+  for (Eigen::Index i = 0; i < na; ++i) {
+    const Eigen::Index j = row_best[static_cast<std::size_t>(i)];
+    if (col_best[static_cast<std::size_t>(j)] == i && s(i, j) >= min_cosine) ++matches;
+  }
+  return matches;
+}
+
+std::vector<PlaceCandidate> RerankByMatches(const std::vector<PlaceCandidate>& candidates,
+                                            int query,
+                                            const std::vector<Eigen::MatrixXf>& descriptors,
+                                            float min_cosine, int max_rows) {
+  const auto at = [&](int id) -> const Eigen::MatrixXf& {
+    if (id < 0 || static_cast<std::size_t>(id) >= descriptors.size()) {
+      throw InputError("RerankByMatches: keyframe " + std::to_string(id) + ": expected ids 0.." +
+                       std::to_string(static_cast<long long>(descriptors.size()) - 1));
+    }
+    return descriptors[static_cast<std::size_t>(id)];
+  };
+  std::vector<PlaceCandidate> out;
+  for (const PlaceCandidate& c : candidates) {
+    out.push_back(
+        {c.id, static_cast<double>(MutualMatches(at(query), at(c.id), min_cosine, max_rows))});
+  }
+  std::stable_sort(out.begin(), out.end(), [](const PlaceCandidate& x, const PlaceCandidate& y) {
+    return x.score > y.score;
+  });
+  return out;
+}
+
 std::vector<std::pair<int, int>> FarApartCandidates(const PlaceIndex& index, int min_separation,
                                                     int k) {
   std::vector<std::pair<int, int>> pairs;

@@ -85,6 +85,22 @@ class PlaceIndex {
   bool final_ = false;
 };
 
+// Re-ranking by the descriptors themselves: the number of mutual nearest neighbours (cosine of the
+// rows, which are L2-normalised) between two keyframes' descriptors with cosine >= min_cosine.
+// Word histograms lose where in descriptor space a word's members lie; two views of one place
+// share many one-to-one matches, two similar-looking places few. Only the first max_rows rows of
+// each are used (the extractor sorts them strongest first), which bounds the cost.
+int MutualMatches(const Eigen::MatrixXf& a, const Eigen::MatrixXf& b, float min_cosine = 0.8f,
+                  int max_rows = 1024);
+
+// The `candidates` (best first, e.g. PlaceIndex::Rank's) re-ordered by MutualMatches with the
+// query's descriptors, most matches first; equal counts keep their order. `descriptors` holds
+// every keyframe's descriptors by id. The scores become the match counts.
+std::vector<PlaceCandidate> RerankByMatches(const std::vector<PlaceCandidate>& candidates,
+                                            int query,
+                                            const std::vector<Eigen::MatrixXf>& descriptors,
+                                            float min_cosine = 0.8f, int max_rows = 1024);
+
 // Pairs of keyframes of one recording worth asking about: for each keyframe, the `k` most similar
 // keyframes at least `min_separation` positions away in the recording (ids are positions) that
 // share some weighted word with it (score > 0), each pair once (lower id first), in query order

@@ -126,6 +126,29 @@ TEST(PlaceRecognition, FarApartCandidatesSkipNeighboursAndUnrelatedKeyframes) {
   EXPECT_TRUE(FarApartCandidates(index, 4, 5).empty());
 }
 
+TEST(PlaceRecognition, MutualMatchesCountOneToOnePairsAboveTheCosine) {
+  // a's rows: axes 0, 1, 2 and a second row near axis 0; b's rows: axes 0, 1 and 3. Axis 0 of b
+  // is the nearest of both a-rows 0 and 3, but only row 0 is its nearest back: mutual pairs are
+  // (0, 0) and (1, 1); a's axis 2 has no partner above the cosine.
+  Eigen::MatrixXf a = Words({0, 1, 2, 0});
+  a.row(3) << 0.8f, 0.6f, 0, 0;
+  const Eigen::MatrixXf b = Words({0, 1, 3});
+  EXPECT_EQ(MutualMatches(a, b, 0.5f), 2);
+  EXPECT_EQ(MutualMatches(b, a, 0.5f), 2);
+  EXPECT_EQ(MutualMatches(a, b, 0.5f, 1), 1);  // only the first row of each
+  EXPECT_EQ(MutualMatches(a, Eigen::MatrixXf(0, 4)), 0);
+  EXPECT_THROW(MutualMatches(a, Eigen::MatrixXf::Zero(2, 5)), InputError);
+
+  // Re-ranking: keyframe 2 shares two matches with the query 0, keyframe 1 one.
+  const std::vector<Eigen::MatrixXf> d = {Words({0, 1, 2}), Words({2, 3}), Words({0, 1})};
+  const auto out = RerankByMatches({{1, 0.9}, {2, 0.5}}, 0, d, 0.5f);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].id, 2);
+  EXPECT_EQ(out[0].score, 2.0);
+  EXPECT_EQ(out[1].id, 1);
+  EXPECT_EQ(out[1].score, 1.0);
+}
+
 TEST(PlaceRecognition, BadInputIsRefused) {
   EXPECT_THROW(Vocabulary::Train({}), InputError);
   EXPECT_THROW(Vocabulary::Train({Eigen::MatrixXf(2, 4), Eigen::MatrixXf(2, 5)}), InputError);
