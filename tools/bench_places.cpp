@@ -2,7 +2,8 @@
 // ../shared/sessions (docs/RECORDINGS.md). Not installed; a benchmark, not a test.
 //
 //   zeroreg-bench-places [--data DIR] [--sessions FILE] [--scene NAME] [--threshold T]
-//                        [--every K] [--words N] [--seed S] [--positive C] [--keyframes-only]
+//                        [--every K] [--words N] [--seed S] [--positive C] [--rerank N]
+//                        [--min-cosine C] [--misses] [--keyframes-only]
 //
 // Per scene: keyframes of recording A and of recording B (src/recordings/keyframes.hpp; ground
 // truth poses, or every K-th frame with --every), XFeat descriptors of each keyframe (the
@@ -154,7 +155,7 @@ int Run(int argc, char** argv) {
   VocabularyConfig vc;
   int every = 0;
   double positive = 0.3;
-  bool keyframes_only = false;
+  bool keyframes_only = false, misses = false;
   int rerank = 0;
   float min_cosine = 0.8f;
   app.add_option("--data", data, "folder of the scenes");
@@ -167,6 +168,7 @@ int Run(int argc, char** argv) {
   app.add_option("--positive", positive, "co-visibility of a true loop-closure pair");
   app.add_option("--rerank", rerank, "re-rank the N best by mutual descriptor matches (0: off)");
   app.add_option("--min-cosine", min_cosine, "re-ranking: a match's minimum cosine");
+  app.add_flag("--misses", misses, "print the queries missed at 10 to stderr");
   app.add_flag("--keyframes-only", keyframes_only, "count keyframes, no place recognition");
   try {
     app.parse(argc, argv);
@@ -230,17 +232,20 @@ int Run(int argc, char** argv) {
     for (std::size_t j = 0; j < b.size(); ++j) {
       std::vector<bool> right(a.size(), false);
       int positives = 0;
+      double best_covisibility = 0.0;
       for (std::size_t i = 0; i < a.size(); ++i) {
-        right[i] = Covisibility(b[j].view, b[j].T_world_camera, a[i].view, a[i].T_world_camera,
-                                kf) >= positive;
+        const double c =
+            Covisibility(b[j].view, b[j].T_world_camera, a[i].view, a[i].T_world_camera, kf);
+        right[i] = c >= positive;
         positives += right[i];
+        best_covisibility = std::max(best_covisibility, c);
       }
       if (positives == 0) continue;
       ++queries;
       chance1 += Chance(static_cast<int>(a.size()), positives, 1);
       chance += Chance(static_cast<int>(a.size()), positives, 10);
       const int query = static_cast<int>(a.size() + j);
-      std::vector<PlaceCandidate> ranked = index.Rank(query, database, std::max(10, rerank));
+      std::vector<PlaceCandidate> ranked = index.Rank(query, database, -1);
       if (rerank > 0) {  // the first `rerank` re-ordered, the rest after them as they were
         const std::size_t n =
             std::min<std::size_t>(ranked.size(), static_cast<std::size_t>(rerank));
@@ -254,6 +259,19 @@ int Run(int argc, char** argv) {
             hits[t] += 1;
             break;
           }
+        }
+      }
+      if (misses) {
+        std::size_t first = 0;
+        while (first < ranked.size() && !right[static_cast<std::size_t>(ranked[first].id)]) {
+          ++first;
+        }
+        if (first >= 10) {
+          std::fprintf(stderr,
+                       "miss: %s B frame %d: %d right of %zu A keyframes, best co-visibility "
+                       "%.2f, first right at rank %zu\n",
+                       s.scene.c_str(), b[j].frame, positives, a.size(), best_covisibility,
+                       first + 1);
         }
       }
     }
