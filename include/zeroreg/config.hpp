@@ -407,11 +407,6 @@ struct RefineConfig {
   // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict"). Applied only
   // when the check accepted the estimate; an estimate it refused leaves ICP to the check alone.
   double min_kept_inlier_fraction = 0.5;
-  // true: an object-level estimate the check refuses is refined (and checked again) before the
-  // whole-image fallback is tried; when the fallback is tried after all, its estimate is refined
-  // too before the two are compared. false: only the returned estimate is refined (as before the
-  // thirteenth session). docs/CONFIG.md, "The verdict".
-  bool before_fallback = true;
   double anchor_weight_fine = 0.0;
   // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
   // at every iterate (a Gaussian maximum-likelihood fit of both), instead of the fixed shares
@@ -673,14 +668,14 @@ struct HypothesesConfig {
   // matching per degenerate object-path pair.
   bool image_rival_degenerate = true;
   // true: an object-path estimate the check refused, which passed only after ICP moved it
-  // (refine.before_fallback), is also checked against the whole-image one, as image_rival does
-  // for every object-path estimate. Its own correspondences did not make the scans agree, so the
-  // estimate rests on ICP's basin, which one or a few objects' worth of correspondences place
-  // less surely than the whole image's. If the whole-image estimate is valid, scores higher and
-  // lies more than refine.max_distance_final_m from it in RMS displacement over the source
-  // scan's surface samples (closer, they are the same answer and the object path keeps it), it
-  // replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object estimate to
-  // 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
+  // (every candidate is refined before the next is asked), is also checked against the whole-image
+  // one, as image_rival does for every object-path estimate. Its own correspondences did not make
+  // the scans agree, so the estimate rests on ICP's basin, which one or a few objects' worth of
+  // correspondences place less surely than the whole image's. If the whole-image estimate is valid,
+  // scores higher and lies more than refine.max_distance_final_m from it in RMS displacement over
+  // the source scan's surface samples (closer, they are the same answer and the object path keeps
+  // it), it replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object
+  // estimate to 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
   // 0.6 deg / 2.5 cm (score 0.484). Where the check finds the geometry degenerate the score
   // cannot decide and this rule stands aside (image_rival_degenerate judges by inliers there).
   // Off with hypotheses.enabled = false. Costs one whole-image matching, estimate and ICP per

@@ -137,7 +137,6 @@ void Visit(V& v, RefineConfig& c) {
   v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0.0));
   v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
-  v("before_fallback", c.before_fallback);
   v("max_iterations", c.max_iterations, AtLeast(0));
 }
 template <typename V>

@@ -1,5 +1,6 @@
-// Issue 12, item 1: the extra hypothesis sources and the judge, against ground truth.
-#include "pipeline/hypotheses.hpp"
+// The sources, the judge and the arbiter's rule: stand-in candidates for the rule, real frames
+// with ground truth for the sources.
+#include "pipeline/arbiter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -119,18 +120,18 @@ TEST(GeometryCorrespondences, FpfhAndTheCliqueRecoverAKnownMotionOfARealFrame) {
 TEST(Hypotheses, OnByDefaultOnlyForInvalidResultsAndNeverWithoutTheCheck) {
   PipelineConfig config;
   RegistrationResult invalid;
-  EXPECT_TRUE(WantMoreHypotheses(config, invalid));  // default on
+  EXPECT_TRUE(WantMoreSources(config, invalid));  // default on
   config.hypotheses.enabled = false;
-  EXPECT_FALSE(WantMoreHypotheses(config, invalid));
+  EXPECT_FALSE(WantMoreSources(config, invalid));
   config.hypotheses.enabled = true;
   config.verify.enabled = false;  // no judge, no hypotheses
-  EXPECT_FALSE(WantMoreHypotheses(config, invalid));
+  EXPECT_FALSE(WantMoreSources(config, invalid));
   config.verify.enabled = true;
   RegistrationResult valid;
   valid.valid = true;
-  EXPECT_FALSE(WantMoreHypotheses(config, valid));
+  EXPECT_FALSE(WantMoreSources(config, valid));
   config.hypotheses.always = true;
-  EXPECT_TRUE(WantMoreHypotheses(config, valid));
+  EXPECT_TRUE(WantMoreSources(config, valid));
 }
 
 TEST(Hypotheses, EstimatorNamesAreCheckedWhereTheyEnter) {
@@ -199,8 +200,8 @@ TEST(ImageRival, DisplacementRmsOverBothResultsPoints) {
   EXPECT_DOUBLE_EQ(EstimateDisplacementRms(RegistrationResult(), RegistrationResult()), 0.0);
 }
 
-// What a stand-in judge returns to JudgeImageRival as the whole-image estimate: valid or not,
-// its check score and inlier count, and a transform offset_m metres from the identity along x.
+// What a stand-in judge returns as the whole-image estimate: valid or not, its check score and
+// inlier count, and a transform offset_m metres from the identity along x.
 struct StandInRival {
   bool valid = true;
   double offset_m = 0.0;
@@ -210,45 +211,55 @@ struct StandInRival {
 
 struct ImageRivalRun {
   RegistrationResult result;
-  bool ran = false;           // the rule ran the rival
-  int whole_image_calls = 0;  // how often it asked for the whole-image correspondences
+  bool ran = false;           // the arbiter asked for the rival
+  int whole_image_calls = 0;  // how often it matched the whole images
 };
 
-// JudgeImageRival on `start` with a stand-in judge that returns `rival` (its correspondences and
-// a candidate "<path> ransac" included), five whole-image correspondences at `c`, and two surface
-// samples of the source scan.
+// The arbiter on a method candidate `start` (valid before ICP unless `rescued_by_icp`) with a
+// stand-in judge that returns `rival` for the whole images (its correspondences and a candidate
+// "<path> ransac" included), five whole-image correspondences at `c`, and two surface samples of
+// the source scan.
 ImageRivalRun RunImageRival(const PipelineConfig& config, const RegistrationResult& start,
                             const StandInRival& rival, bool rescued_by_icp = false,
                             const Correspondence& c = Correspondence()) {
   ImageRivalRun run;
-  const std::vector<SurfacePoint> surface = {{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero()},
-                                             {Eigen::Vector3d(1, 0, 2), Eigen::Vector3d::Zero()}};
-  HypothesisInputs inputs;
-  inputs.whole_image = [&] {
+  Prepared source, target;
+  source.surface = {{Eigen::Vector3d(0, 0, 1), Eigen::Vector3d::Zero()},
+                    {Eigen::Vector3d(1, 0, 2), Eigen::Vector3d::Zero()}};
+  WholeImageMatches whole_image([&] {
     ++run.whole_image_calls;
     return std::vector<Correspondence>(5, c);
-  };
-  inputs.source_surface = &surface;
-  inputs.object_rescued_by_icp = rescued_by_icp;
-  const JudgeFn judge = [&](const std::string& path, std::vector<Correspondence> found,
-                            const PipelineConfig&) {
-    RegistrationResult r;
-    r.path = path;
+  });
+  const std::optional<MotionPrior> no_prior;
+  PipelineConfig cfg = config;
+  cfg.hypotheses.geometry = false;  // no depth here; the extra sources are other tests' concern
+  PairInputs pair{source, target, cfg, no_prior, nullptr, nullptr, {}, &whole_image, &start, &cfg};
+  const JudgeFn judge = [&](Proposal p, StageTimer*) {
+    Judged j;
+    if (p.path != "image-rival") {  // the method's own candidate
+      j.result = start;
+      j.valid_before_icp = start.valid && !rescued_by_icp;
+      return j;
+    }
+    run.ran = true;
+    RegistrationResult& r = j.result;
+    r.path = p.path;
     r.valid = rival.valid;
     r.count_test_passed = true;
     r.num_inliers = rival.inliers;
     r.verification.score = rival.score;
-    r.correspondences = std::move(found);
+    r.correspondences = std::move(p.correspondences);
     r.T_target_source =
         MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0.0, 0.0));
     CandidateSummary candidate;
-    candidate.name = path + " ransac";
+    candidate.name = p.path + " ransac";
     r.candidates.push_back(candidate);
-    return r;
+    return j;
   };
-  run.result = start;
   StageTimer timer;
-  run.ran = JudgeImageRival(config, config, inputs, judge, timer, &run.result);
+  Proposal method;
+  method.path = start.path;
+  run.result = Arbiter(judge, pair, timer).Decide(method, start);
   return run;
 }
 
@@ -273,7 +284,9 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   const auto run = [&](const PipelineConfig& cfg, const RegistrationResult& start,
                        StandInRival rival) {
     ImageRivalRun out = RunImageRival(cfg, start, rival, false, c);
-    EXPECT_EQ(out.whole_image_calls, out.ran ? 1 : 0);
+    if (start.valid) {
+      EXPECT_EQ(out.whole_image_calls, out.ran ? 1 : 0);
+    }
     return out;
   };
   // Valid, disagreeing, better: replaced, the scans' objects kept, both candidates listed.
