@@ -161,9 +161,8 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
     anchors.target.push_back(r->correspondences[i].target);
   }
   // Where the check found the geometry degenerate, the correspondences are what fixes the open
-  // motion, so they hold every stage, not only the coarse one: the fine stages, fitting depth
-  // alone, slid a HoloLens wall-and-floor pair 68 cm along it in 5 cm steps (hololens-gap5
-  // 247-252).
+  // motion, so they hold every stage: fitting depth alone, the fine stages slid a wall-and-floor
+  // pair 68 cm along it.
   std::vector<IcpStage> stages = IcpSchedule(config);
   if (r->verification.degenerate) {
     for (IcpStage& stage : stages) {
@@ -186,33 +185,23 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
                                   refined.verification.score, refined.verification.passed, false});
     r->candidates = refined.candidates;
     // A refinement keeps the evidence it started from: most of the correspondences that
-    // supported the estimate stay within ICP's own pull-in range (the coarse gate) of the refined
-    // transform. ICP that left them (moved 25-70 cm into another minimum of the depth fit, measured
-    // on cabinet-gap3 and hololens-gap5) is a new registration the image evidence contradicts, not
-    // a refinement. (Counting them at the 5 cm inlier distance instead rejected correct 5 cm
-    // corrections on redkitchen-gap60: RANSAC's inliers sit up to 5 cm off its own estimate.)
-    // The test applies to an estimate the check accepted. An estimate under which the scans
-    // contradict each other has correspondences that are not evidence of anything (on
-    // redkitchen-cross 471-866 and 490-858 they sit on repeated cabinet fronts, 8-10 deg off, and
-    // ICP from there reaches the truth within 1.4-3.8 deg), so ICP's transform is judged by the
-    // check alone, as any other hypothesis is; except where the check finds the geometry
-    // degenerate: there it cannot judge alone (a HoloLens wall lets ICP slide a metre and still
-    // pass, hololens-gap5 165-170), as for the extra sources (hypotheses.refuse_degenerate).
-    // The extra hypotheses are held to more (hypotheses.refine_keeps_evidence, KeptEvidence):
-    // a few object centroids 0.3 m apart pin no surface, so ICP from their refused estimate
-    // starts blind; it travelled 1.2-1.4 m into a wrong pose the check accepted (hololens-cross
-    // 49-368, 50-369, both detectors on every view). Their refinement keeps its evidence always,
-    // each inlier within the distance it was counted at (0.3 m, wider than the gate). Every extra
-    // source's refinement keeps at least four of its estimate's inliers, refused or not.
+    // supported the estimate stay within ICP's own pull-in range (the coarse gate; at the 5 cm
+    // inlier distance correct 5 cm corrections were refused). ICP that left them moved 25-70 cm
+    // into another minimum of the depth fit: a new registration the images contradict. The test
+    // applies to an estimate the check accepted: under a refused one the correspondences are no
+    // evidence (repeated cabinet fronts 8-10 deg off, from which ICP reaches the truth), so the
+    // check judges ICP alone; except in degenerate geometry, where it cannot (a wall lets ICP
+    // slide a metre and still pass). The extra sources are held to more (KeptEvidence): a few
+    // centroids pin no surface, and ICP from their refused estimate travelled 1.2-1.4 m into a
+    // wrong pose the check accepted, so their refinement keeps its evidence always.
     const bool keep_evidence = pipeline.hypotheses.refine_keeps_evidence;
     const bool evidence_needed = r->verification.passed || refined.verification.degenerate ||
                                  (keep_evidence && rule.fraction_always);
     const double gate_m =
         std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m);
     const int kept = CountWithin(*r, icp.T_target_source, gate_m);
-    // Three correspondences agree with some motion whenever their pairwise distances do, which
-    // three object centroids at 0.3 m often do (hololens-cross 50-369: 3 of 20 kept, 43 deg off):
-    // an extra hypothesis's refinement keeps at least four of them, checked or not.
+    // Three correspondences agree with some motion whenever their pairwise distances do: an extra
+    // source's refinement keeps at least four of them, checked or not.
     const double kept_floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
     const double kept_needed =
         evidence_needed ? std::max(config.min_kept_inlier_fraction * r->num_inliers, kept_floor)
@@ -227,9 +216,8 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
       // another pose the check accepts as well, farther than ICP's widest gate: the check cannot
       // choose between two poses it accepts (as for hypotheses.always), and the estimate rests on
       // a few correspondences of a source that runs because the method's own estimate failed,
-      // counted without an inlier ratio (hypotheses.min_inlier_ratio). Neither is valid.
-      // (redkitchen 299 <- 80, 6 % co-visible: the geometry source's estimate, 179 deg off,
-      // scored 0.205 and ICP's pose 76 cm away 0.203; scripts/bench-negatives.py.)
+      // counted without an inlier ratio (hypotheses.min_inlier_ratio). Neither is valid (a
+      // geometry estimate 179 deg off scored 0.205, ICP's pose 76 cm away 0.203).
       if (keep_evidence && rule.min_kept > 0 && r->valid && refined.verification.passed &&
           Disagree(EstimateDisplacementRms(*r, refined), pipeline)) {
         r->valid = false;
