@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <string>
 #include <utility>
 
@@ -265,6 +266,139 @@ ImageRivalRun RunImageRival(const PipelineConfig& config, const RegistrationResu
 
 // The rule of the judge, with a stand-in for estimation: a valid object-path estimate is replaced
 // only by a valid whole-image estimate that disagrees with it and scores higher.
+// A stand-in candidate for the arbiter's rule: what the judge says of one source's proposal.
+struct StandIn {
+  bool valid = false;
+  bool count = true;      // the count test passed
+  double score = 0.0;     // the check's score
+  double offset_m = 0.0;  // transform: a translation along x
+  bool valid_before_icp = false;
+};
+
+// The arbiter with a stand-in judge that answers each path from `answers` (a path not listed is
+// judged invalid without consensus); whole images available, object correspondences present, and
+// three same-label object pairs so every extra source but geometry and the turned images proposes.
+struct RuleRun {
+  RegistrationResult result;
+  std::vector<std::string> asked;  // the paths the judge was asked, in order
+};
+RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>& answers,
+                const std::string& method_path = "object") {
+  RuleRun run;
+  PipelineConfig config = base;
+  config.hypotheses.geometry = false;  // no depth here
+  Prepared source, target;
+  Correspondence c;
+  c.source = Eigen::Vector3d(0.5, 0.2, 2.0);
+  WholeImageMatches whole_image([c] { return std::vector<Correspondence>(8, c); });
+  RegistrationResult scans;
+  for (int i = 0; i < 3; ++i) {
+    scans.source_objects.push_back(Object("chair", Eigen::Vector3d(i, 0, 2)));
+    scans.target_objects.push_back(Object("table", Eigen::Vector3d(i, 1, 2)));
+  }
+  scans.object_matches = {{0, 0, 1.5, 10}, {1, 1, 1.5, 10}, {2, 2, 1.5, 10}};
+  const std::optional<MotionPrior> no_prior;
+  PairInputs pair{
+      source,       target, config, no_prior, nullptr, nullptr, std::vector<Correspondence>(8, c),
+      &whole_image, &scans, &config};
+  const JudgeFn judge = [&](Proposal p, StageTimer*) {
+    run.asked.push_back(p.path);
+    Judged j;
+    RegistrationResult& r = j.result;
+    r.path = p.path;
+    r.correspondences = std::vector<Correspondence>(4, c);
+    const auto it = answers.find(p.path);
+    if (it != answers.end()) {
+      r.valid = it->second.valid;
+      r.count_test_passed = it->second.count;
+      r.verification.score = it->second.score;
+      r.T_target_source =
+          MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(it->second.offset_m, 0, 0));
+      j.valid_before_icp = it->second.valid_before_icp;
+    }
+    CandidateSummary candidate;
+    candidate.name = p.path;
+    candidate.T_target_source = r.T_target_source;
+    candidate.passed = r.valid;
+    r.candidates.push_back(candidate);
+    return j;
+  };
+  StageTimer timer;
+  Proposal method;
+  method.path = method_path;
+  run.result = Arbiter(judge, pair, timer).Decide(method, scans);
+  return run;
+}
+
+// Step 2 of the rule: an invalid method candidate is replaced by the whole images' unless it has
+// count evidence and a higher score while the whole images' never passed the check.
+TEST(ArbiterRule, FallbackReplacesAnInvalidMethodCandidateUnlessItScoresLower) {
+  PipelineConfig config;
+  config.hypotheses.enabled = false;  // steps 1-2 alone
+  RuleRun run =
+      RunRule(config, {{"object", {false, true, 0.2}}, {"image-fallback", {true, true, 0.1}}});
+  EXPECT_EQ(run.result.path, "image-fallback");
+  EXPECT_TRUE(run.result.valid);
+  EXPECT_EQ(run.result.object_matches.size(), 3u);  // what belongs to the scans is kept
+  ASSERT_EQ(run.result.candidates.size(), 2u);
+  EXPECT_TRUE(run.result.candidates[1].chosen);
+  // Both invalid: the higher score with count evidence stays.
+  run = RunRule(config, {{"object", {false, true, 0.2}}, {"image-fallback", {false, true, 0.1}}});
+  EXPECT_EQ(run.result.path, "object");
+  run = RunRule(config, {{"object", {false, true, 0.1}}, {"image-fallback", {false, true, 0.2}}});
+  EXPECT_EQ(run.result.path, "image-fallback");
+  // No count evidence for the method: the fallback's candidate is returned.
+  run = RunRule(config, {{"object", {false, false, 0.9}}, {"image-fallback", {false, true, 0.1}}});
+  EXPECT_EQ(run.result.path, "image-fallback");
+  // The fallback passed before ICP (ICP or the prior then refused it): it is returned.
+  run = RunRule(config,
+                {{"object", {false, true, 0.2}}, {"image-fallback", {false, true, 0.1, 0, true}}});
+  EXPECT_EQ(run.result.path, "image-fallback");
+  // A valid method candidate: the whole images are not asked (not decisive needs a doubt).
+  run = RunRule(config, {{"object", {true, true, 0.3, 0, true}}});
+  EXPECT_EQ(run.asked, std::vector<std::string>{"object"});
+}
+
+// Step 3: while nothing valid is held every extra source is asked, the best by Better wins, and an
+// invalid candidate never replaces the held one; the turned images are asked only when nothing is
+// valid (here they cannot propose: no features).
+TEST(ArbiterRule, ExtraSourcesTheBestValidWinsAndAnInvalidNeverReplaces) {
+  const PipelineConfig config;
+  RuleRun run = RunRule(config, {{"object", {false, true, 0.2}},
+                                 {"image-fallback", {false, true, 0.1}},
+                                 {"object clique", {true, true, 0.3, 0.5}},
+                                 {"image clique", {true, true, 0.4, 0.6}},
+                                 {"object-pairs clique", {false, true, 0.9}}});
+  EXPECT_EQ(run.asked, (std::vector<std::string>{"object", "image-fallback", "object clique",
+                                                 "image clique", "object-pairs clique"}));
+  EXPECT_EQ(run.result.path, "image clique");
+  EXPECT_TRUE(run.result.valid);
+  EXPECT_NE(run.result.reason.find("chosen: image clique"), std::string::npos) << run.result.reason;
+  // None valid: the held candidate stays, whatever the others score.
+  run = RunRule(config, {{"object", {false, true, 0.2}},
+                         {"image-fallback", {false, true, 0.1}},
+                         {"object clique", {false, true, 0.8}}});
+  EXPECT_EQ(run.result.path, "object");
+  EXPECT_FALSE(run.result.valid);
+}
+
+// hypotheses.always: a valid held candidate is replaced only by a better one within ICP's widest
+// gate of it; a better one farther away is counted as disagreeing and not taken.
+TEST(ArbiterRule, AValidHeldCandidateIsNotReplacedByADisagreeingOne) {
+  PipelineConfig config;
+  config.hypotheses.always = true;
+  const double gate = config.refine.max_distance_coarse_m;
+  RuleRun run = RunRule(config, {{"object", {true, true, 0.3, 0, true}},
+                                 {"image clique", {true, true, 0.5, 3 * gate}}});
+  EXPECT_EQ(run.result.path, "object");
+  EXPECT_NE(run.result.reason.find("disagreeing with the method's valid estimate: not taken"),
+            std::string::npos)
+      << run.result.reason;
+  run = RunRule(config, {{"object", {true, true, 0.3, 0, true}},
+                         {"image clique", {true, true, 0.5, 0.5 * gate}}});
+  EXPECT_EQ(run.result.path, "image clique");
+}
+
 TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   PipelineConfig config;
   config.hypotheses.image_rival = true;
