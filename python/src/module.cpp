@@ -692,6 +692,18 @@ void BindResult(py::module_& m) {
                     "True when the check passed but the pose lies beyond the motion prior given "
                     "to register() (so valid is False).")
       .def_readonly("reason", &RegistrationResult::reason)
+      .def_property_readonly(
+          "refusal",
+          [](const RegistrationResult& r) -> py::object {
+            if (r.refusal.test == RefusalTest::kNone) return py::none();
+            py::dict d;
+            d["test"] = RefusalTestName(r.refusal.test);
+            d["measured"] = r.refusal.measured;
+            d["threshold"] = r.refusal.threshold;
+            return d;
+          },
+          "None when valid; else a dict: test (e.g. 'few_inliers', 'low_overlap', "
+          "'outside_prior'), measured, threshold (units: RefusalTest in zeroreg/types.hpp).")
       .def_readonly("path", &RegistrationResult::path,
                     "Which correspondence source produced the transform, e.g. 'image'.")
       .def_property_readonly("counts", &Counts,

@@ -555,6 +555,13 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"inlier_spread_m", r.inlier_spread_m},
          {"count_test_passed", r.count_test_passed},
          {"timings_ms", timings}};
+  // The refusal as data (null for a valid result); `reason` stays the prose.
+  j["refusal"] = nullptr;
+  if (r.refusal.test != RefusalTest::kNone) {
+    j["refusal"] = {{"test", RefusalTestName(r.refusal.test)},
+                    {"measured", r.refusal.measured},
+                    {"threshold", r.refusal.threshold}};
+  }
   if (r.verification.ran) {
     const VerificationResult& v = r.verification;
     j["verification"] = {

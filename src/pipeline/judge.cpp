@@ -20,17 +20,24 @@ void DecideVerdict(const RansacConfig& config, RegistrationResult* r) {
   // the other's ApplyPrior flag.
   r->outside_prior = false;
   std::ostringstream why;
+  Refusal& no = r->refusal;
+  no = {};
   if (r->num_correspondences < 3) {
+    no = {RefusalTest::kFewCorrespondences, static_cast<double>(r->num_correspondences), 3.0};
     why << "only " << r->num_correspondences
         << " 3D correspondences; at least 3 are needed to estimate a rigid transform";
   } else if (r->num_inliers < config.min_inliers) {
+    no = {RefusalTest::kFewInliers, static_cast<double>(r->num_inliers),
+          static_cast<double>(config.min_inliers)};
     why << "only " << r->num_inliers << " RANSAC inliers of " << r->num_correspondences
         << " correspondences (need at least " << config.min_inliers << ")";
   } else if (r->inlier_spread_m < config.min_inlier_spread_m) {
+    no = {RefusalTest::kInliersOnALine, r->inlier_spread_m, config.min_inlier_spread_m};
     why << "the " << r->num_inliers << " inliers lie almost on a line (spread "
         << r->inlier_spread_m << " m across it, need " << config.min_inlier_spread_m
         << " m): the rotation about it is undetermined";
   } else if (r->inlier_ratio < config.min_inlier_ratio) {
+    no = {RefusalTest::kLowInlierRatio, r->inlier_ratio, config.min_inlier_ratio};
     why << "inlier ratio " << r->inlier_ratio << " is below " << config.min_inlier_ratio << " ("
         << r->num_inliers << " of " << r->num_correspondences << ")";
   } else {
@@ -129,7 +136,96 @@ int CountWithin(const RegistrationResult& r, const Transform& T, double distance
   return count;
 }
 
+// Which of the check's tests refused it (the order VerifyRegistration decides in); kNone when
+// it passed.
+Refusal CheckRefusal(const VerificationResult& v, const VerifyConfig& config) {
+  if (v.passed) return {};
+  const int samples = std::min(v.source_samples, v.target_samples);
+  if (samples < config.min_points) {
+    return {RefusalTest::kLittleDepth, static_cast<double>(samples),
+            static_cast<double>(config.min_points)};
+  }
+  if (v.overlap < config.min_overlap) {
+    return {RefusalTest::kLowOverlap, v.overlap, config.min_overlap};
+  }
+  return {RefusalTest::kFreeSpaceViolation, v.violation, config.max_violation};
+}
+
 }  // namespace
+
+const char* RefusalTestName(RefusalTest test) {
+  switch (test) {
+    case RefusalTest::kNone:
+      return "";
+    case RefusalTest::kFewCorrespondences:
+      return "few_correspondences";
+    case RefusalTest::kFewInliers:
+      return "few_inliers";
+    case RefusalTest::kInliersOnALine:
+      return "inliers_on_a_line";
+    case RefusalTest::kLowInlierRatio:
+      return "low_inlier_ratio";
+    case RefusalTest::kLittleDepth:
+      return "little_depth";
+    case RefusalTest::kLowOverlap:
+      return "low_overlap";
+    case RefusalTest::kFreeSpaceViolation:
+      return "free_space_violation";
+    case RefusalTest::kOutsidePrior:
+      return "outside_prior";
+    case RefusalTest::kDegenerate:
+      return "degenerate";
+    case RefusalTest::kImagesDisagree:
+      return "images_disagree";
+    case RefusalTest::kAnotherPosePasses:
+      return "another_pose_passes";
+  }
+  return "";
+}
+
+std::string DescribeRefusal(const Refusal& r) {
+  const char* what = "";
+  switch (r.test) {
+    case RefusalTest::kNone:
+      return "";
+    case RefusalTest::kFewCorrespondences:
+      what = "too few correspondences: %g (need %g)";
+      break;
+    case RefusalTest::kFewInliers:
+      what = "too few inliers: %g (need %g)";
+      break;
+    case RefusalTest::kInliersOnALine:
+      what = "inliers on a line: spread %g m (need %g m)";
+      break;
+    case RefusalTest::kLowInlierRatio:
+      what = "inlier ratio %g below %g";
+      break;
+    case RefusalTest::kLittleDepth:
+      what = "too little depth to verify: %g samples (need %g)";
+      break;
+    case RefusalTest::kLowOverlap:
+      what = "the scans do not agree: overlap %g (need %g)";
+      break;
+    case RefusalTest::kFreeSpaceViolation:
+      what = "the scans contradict each other: free-space violations %g (allowed %g)";
+      break;
+    case RefusalTest::kOutsidePrior:
+      what = "outside the motion prior: %g (tolerance %g)";
+      break;
+    case RefusalTest::kDegenerate:
+      what = "degenerate geometry: %g of the surface contradicted by a slide (need %g)";
+      break;
+    case RefusalTest::kImagesDisagree:
+      what = "the images disagree where the depth agrees: rank correlation %g (need %g)";
+      break;
+    case RefusalTest::kAnotherPosePasses:
+      what = "another pose passes the check: %g m away (ICP's widest gate %g m)";
+      break;
+  }
+  char text[200];
+  std::snprintf(text, sizeof(text), what, r.measured, r.threshold);
+  return text;
+}
 
 // With verification on, the count test of DecideVerdict is the evidence that an estimate exists,
 // and `valid` additionally needs the scans to agree under it.
@@ -143,6 +239,7 @@ void Judge::Check(const PipelineConfig& config, const std::string& name,
       {name, r->T_target_source, r->verification.score, evidence && r->verification.passed, false});
   if (!evidence) return;  // the count reason stands
   r->valid = r->verification.passed;
+  r->refusal = CheckRefusal(r->verification, config.verify);
   r->reason = r->verification.reason + " (" + r->reason + ")";
 }
 
@@ -221,6 +318,8 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
       if (keep_evidence && rule.min_kept > 0 && r->valid && refined.verification.passed &&
           Disagree(EstimateDisplacementRms(*r, refined), pipeline)) {
         r->valid = false;
+        r->refusal = {RefusalTest::kAnotherPosePasses, EstimateDisplacementRms(*r, refined),
+                      pipeline.refine.max_distance_coarse_m};
         r->reason +=
             "; not valid: the check accepts that pose as well, so the scans do not determine "
             "the transform";
@@ -236,6 +335,7 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
       return;
     }
     refined.valid = refined.verification.passed;
+    refined.refusal = CheckRefusal(refined.verification, pipeline.verify);
     refined.outside_prior = false;  // a new verdict (ApplyPrior decides it again)
     refined.reason = refined.verification.reason;
   }
@@ -266,6 +366,9 @@ void Judge::ApplyPrior(RegistrationResult* r) const {
   if (!d.beyond) return;
   r->valid = false;
   r->outside_prior = true;
+  r->refusal = d.turned_deg > prior->max_rotation_deg
+                   ? Refusal{RefusalTest::kOutsidePrior, d.turned_deg, prior->max_rotation_deg}
+                   : Refusal{RefusalTest::kOutsidePrior, d.moved_m, prior->max_translation_m};
   char note[200];
   std::snprintf(note, sizeof(note),
                 "; not valid: %.1f deg and %.1f cm from the motion prior (tolerance %.1f deg, "
@@ -307,6 +410,8 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
   const HypothesesConfig& h = config_.hypotheses;
   if (p.refuse_degenerate && r.valid && r.verification.degenerate) {
     r.valid = false;
+    r.refusal = {RefusalTest::kDegenerate, r.verification.probe_contradicted,
+                 config_.verify.min_probe_contradicted};
     out.refusal = "refused: degenerate geometry";
     r.reason += p.pose ? "; not valid: the geometry is degenerate and no correspondence fixes the "
                          "motion it leaves open"
@@ -317,6 +422,7 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
   if (p.images_must_agree && r.valid && std::isfinite(rho) &&
       rho < h.min_brightness_rank_correlation) {
     r.valid = false;
+    r.refusal = {RefusalTest::kImagesDisagree, rho, h.min_brightness_rank_correlation};
     out.refusal = "refused: the images disagree where the depth agrees";
     char note[200];
     std::snprintf(note, sizeof(note),

@@ -330,6 +330,42 @@ RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>
   return run;
 }
 
+// A refusal is data: its test, what was measured and the threshold; the sentence is made from
+// them. The count tests fill it in the order they are applied.
+TEST(Refusal, FieldsDecideAndTheTextIsMadeFromThem) {
+  EXPECT_STREQ(RefusalTestName(RefusalTest::kNone), "");
+  EXPECT_EQ(DescribeRefusal(Refusal()), "");
+  EXPECT_STREQ(RefusalTestName(RefusalTest::kFewInliers), "few_inliers");
+  EXPECT_EQ(DescribeRefusal({RefusalTest::kFewInliers, 4, 10}), "too few inliers: 4 (need 10)");
+  EXPECT_EQ(DescribeRefusal({RefusalTest::kOutsidePrior, 178.5, 15}),
+            "outside the motion prior: 178.5 (tolerance 15)");
+  // Every test has a name and a sentence with both numbers.
+  for (int t = static_cast<int>(RefusalTest::kFewCorrespondences);
+       t <= static_cast<int>(RefusalTest::kAnotherPosePasses); ++t) {
+    const Refusal r{static_cast<RefusalTest>(t), 0.25, 0.5};
+    EXPECT_STRNE(RefusalTestName(r.test), "") << t;
+    const std::string text = DescribeRefusal(r);
+    EXPECT_NE(text.find("0.25"), std::string::npos) << text;
+    EXPECT_NE(text.find("0.5"), std::string::npos) << text;
+  }
+}
+
+// A real pair refused by the count test, and a valid one: valid exactly when there is no refusal.
+TEST(Refusal, RealPairsCarryTheTestThatRefusedThem) {
+  PipelineConfig strict;
+  strict.ransac.min_inliers = 100000;  // no estimate reaches it
+  strict.hypotheses.enabled = false;
+  const Scan source = Frame(20), target = Frame(0);
+  const RegistrationResult refused = Register(source, target, strict);
+  ASSERT_FALSE(refused.valid);
+  EXPECT_EQ(refused.refusal.test, RefusalTest::kFewInliers) << refused.reason;
+  EXPECT_EQ(refused.refusal.threshold, 100000.0);
+  EXPECT_EQ(refused.refusal.measured, refused.num_inliers);
+  const RegistrationResult valid = Register(source, target, PipelineConfig());
+  ASSERT_TRUE(valid.valid) << valid.reason;
+  EXPECT_EQ(valid.refusal.test, RefusalTest::kNone);
+}
+
 // Step 2 of the rule: an invalid method candidate is replaced by the whole images' unless it has
 // count evidence and a higher score while the whole images' never passed the check.
 TEST(ArbiterRule, FallbackReplacesAnInvalidMethodCandidateUnlessItScoresLower) {
