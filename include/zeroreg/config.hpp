@@ -133,14 +133,6 @@ struct ObjectMatchConfig {
   // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
   // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
   std::uint64_t max_exact_assignments = 2000000;
-  // Rigidity check of the matched objects (src/object_match/rigidity.hpp): after Eq. 2 and the
-  // label filter, only the largest set of matches whose centroid distances agree pairwise within
-  // this many metres (plus the change of each object's visible extent) is kept: a rigid motion
-  // preserves distances. 0 = off (the paper's flow, the default). 0.3 m, the paper's centroid
-  // tolerance (method.object_centroid_threshold_m), raised object-match precision on three
-  // redkitchen frame lists and 3DMatch but lowered it on 3DLoMatch and cost the object path a few
-  // pairs, at the same registrations (docs/MATCHING.md); not taken as the default.
-  double rigidity_tolerance_m = 0.0;
   // Point support of a candidate object pair (§3.4 evidence used in §3.3): the point matches
   // between the two objects' keypoints (every view pair), and the most of them one rigid motion
   // explains (the clique estimator at ransac.inlier_threshold_m, src/estimate/max_clique.hpp).
@@ -520,10 +512,6 @@ struct MethodConfig {
   bool scene_graph = true;
   // false: labels compared by equality only, no CLIP text features ("w/o CLIP").
   bool clip = true;
-  // true: label-incompatible pairs are forbidden inside the assignment of Eq. 2, not only dropped
-  // after it as the paper does. Without it the structural term often prefers a wrong matching on
-  // near-regular kNN graphs (measured on synthetic scenes, docs/MATCHING.md).
-  bool label_mask_in_solve = true;
   // Fall back to whole-image matching when the object level yields fewer matched object pairs or
   // fewer point correspondences than this.
   int min_object_matches = 1;

@@ -197,7 +197,7 @@ struct RegistrationResult {
   std::vector<ObjectSummary> source_objects;
   std::vector<ObjectSummary> target_objects;
   std::vector<ObjectMatchSummary> object_matches;
-  // Matches of Eq. 2 that object_match.rigidity_tolerance_m, object_match.motion_agreement or
+  // Matches of Eq. 2 that object_match.motion_agreement or
   // object_match.agree_with_result removed (not in object_matches).
   int rejected_object_matches = 0;
   std::vector<StageTime> timings;

@@ -811,8 +811,8 @@ void BindResult(py::module_& m) {
           "motion explains; -1 when object_match.min_point_support is 0 and "
           "object_match.motion_agreement is false).")
       .def_readonly("rejected_object_matches", &RegistrationResult::rejected_object_matches,
-                    "Matches of Eq. 2 that the rigidity check (object_match.rigidity_tolerance_m), "
-                    "the motion agreement (object_match.motion_agreement) or the check against "
+                    "Matches of Eq. 2 that the motion agreement (object_match.motion_agreement) "
+                    "or the check against "
                     "the valid result (object_match.agree_with_result) dropped; they are not in "
                     "object_matches.")
       .def_property_readonly(

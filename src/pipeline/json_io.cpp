@@ -203,7 +203,6 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("target_edge_weight", c.target_edge_weight, AtLeast(0));
   v("appearance_weight", c.appearance_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
-  v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
   v("min_point_support", c.min_point_support, AtLeast(0));
   v("motion_agreement", c.motion_agreement);
   v("complete_by_motion", c.complete_by_motion);
@@ -219,7 +218,6 @@ void Visit(V& v, MethodConfig& c) {
   v("object_centroid_threshold_m", c.object_centroid_threshold_m, Positive());
   v("scene_graph", c.scene_graph);
   v("clip", c.clip);
-  v("label_mask_in_solve", c.label_mask_in_solve);
   v("min_object_matches", c.min_object_matches, AtLeast(0));
   v("min_object_correspondences", c.min_object_correspondences, AtLeast(0));
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
