@@ -15,12 +15,12 @@ struct FeatureConfig {
   // XFeat: minimum keypoint heatmap probability (upstream detection threshold).
   double xfeat_detection_threshold = 0.05;
   // XFeat's fixed 640x640 input: true = scale the image uniformly to fit and fill the rest (keeps
-  // the aspect ratio, issue 10); false = stretch it to the square (before issue 10; a 540x360
+  // the aspect ratio); false = stretch it to the square (the earlier rule; a 540x360
   // HoloLens frame is stretched 1.19x / 1.78x). Kept as a switch for the ablation in CONFIG.md.
   bool xfeat_keep_aspect = true;
   // XFeat's input size. false = the scaled image padded only to multiples of 32 (a 640x480 frame
   // runs at 640x480), through the export rewritten for any size (xfeat/xfeat_any_size.onnx,
-  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (before issue 13's
+  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (the earlier
   // change: a quarter of a 640x480 frame's XFeat work went to the fill). Stretching
   // (xfeat_keep_aspect false) always uses the square.
   bool xfeat_square_input = false;
@@ -52,7 +52,7 @@ struct LiftConfig {
   // The a of the view being lifted (metres at 1 m), set per view by the pipeline (LiftForView);
   // not a setting (not read from or written to JSON). 0 = unknown: no noise floor.
   double view_depth_noise_at_1m_m = 0.0;
-  // true: an invalid pixel within the radius also makes an edge (before issue 10; for the
+  // true: an invalid pixel within the radius also makes an edge (the earlier rule; for the
   // ablation in docs/CONFIG.md).
   bool holes_are_edges = false;
 };
@@ -159,7 +159,7 @@ struct ObjectMatchConfig {
   // CompleteByMotion). Eq. 2 tells two chairs of one view apart by structure and appearance only,
   // and at wide baselines gives one the other's partner; the motion agreement then drops that
   // match, and this gives the chair the partner its own point matches move with. Uses only the
-  // object pairs' own motions (no transform of the result). Default on (twenty-sixth session): on
+  // object pairs' own motions (no transform of the result). Default on: on
   // the eight frame lists and 3DMatch / 3DLoMatch it kept every accuracy figure and verdict, found
   // 0.02-0.10 more right matches per pair on six lists and 3DMatch, raised precision on five lists
   // and 3DMatch by 0.1-1.2 points and lowered it on hololens-gap1 by 0.4 (docs/MATCHING.md
@@ -186,7 +186,7 @@ struct ObjectMatchConfig {
 struct DetectorConfig {
   // "ensemble" (default: YOLOX-Nano, plus PP-PicoDet-S 416 where ensemble_below says; pooled,
   // per-class NMS with nms_iou across both), "yolox", "picodet", "darknet" or "file". The default
-  // since the eighteenth session: with ensemble_below = 3 the object path carries 82.5 / 50.9 %
+  // with ensemble_below = 3 the object path carries 82.5 / 50.9 %
   // of cabinet-gap1 / gap3 (17.5 / 12.7 % with YOLOX alone; 80.7 % on cabinet-gap1 since
   // hypotheses.image_rival_single) and more on every other list but one (equal), with
   // the same accuracy and verdicts on every list (BENCHMARKS.md, "A second detector where the
@@ -218,7 +218,7 @@ struct SemanticsConfig {
   std::string backend = "clip-table";
 };
 
-// Which runtime executes the ONNX models (XFeat, YOLOX, SAM; issue 11, docs/PERCEPTION.md). Both
+// Which runtime executes the ONNX models (XFeat, YOLOX, SAM; docs/PERCEPTION.md). Both
 // engines get the same input tensors and their outputs go through the same decoding code; only the
 // forward pass differs.
 struct InferenceConfig {
@@ -297,7 +297,7 @@ struct SegmenterConfig {
   // (11-12 % with 3), and the masks shrank to the fragments between the rings. On the Kinect and
   // TUM frames 98-99 % of the missing pixels lie in holes at least 3 px wide, and the share of
   // edge pixels moves by under a point. Any width >= 1 is exact (even ones too). 1 = every
-  // missing pixel is an edge (the rule before the nineteenth session). docs/PERCEPTION.md, "Thin
+  // missing pixel is an edge (the earlier rule). docs/PERCEPTION.md, "Thin
   // holes are not depth edges".
   int min_hole_width_px = 3;
   // Noisy depth is neither an edge nor off the object's layer. With sigma(d) = a d^2 the depth
@@ -332,7 +332,7 @@ struct RansacConfig {
   // Count test: the correspondences support an estimate only with at least this many inliers,
   // this inlier ratio and this spread. With verification on (the default) this is the evidence
   // that RANSAC found a consensus, and the geometric check decides `valid`; without it, it is the
-  // whole verdict. 10 inliers: at 20 (before issue 10) the count test refused right estimates
+  // whole verdict. 10 inliers: at 20 (earlier) the count test refused right estimates
   // on every list (hololens-gap5 5, hololens-cross 6, cabinet-gap3 7, redkitchen-cross 10 of
   // them) and lowering it let no wrong one through the check (docs/CONFIG.md, "The verdict").
   int min_inliers = 10;
@@ -361,7 +361,7 @@ struct RansacConfig {
 // Optional refinement after RANSAC: point-to-plane ICP on the scans' geometry.
 struct RefineConfig {
   // On by default: on the redkitchen frame pairs it lowers the median translation error and
-  // raises the 5 deg / 5 cm accuracies (BENCHMARKS.md, issue 6 tables).
+  // raises the 5 deg / 5 cm accuracies (BENCHMARKS.md).
   bool enabled = true;
   // Coarse-to-fine point-to-plane ICP in three stages. Each stage gates the closest-point
   // pairs at its distance, so it pulls in estimates up to about that far off and ignores
@@ -417,12 +417,12 @@ struct RefineConfig {
   // geometric check scores it at least as well as the estimate it started from.
 };
 
-// Geometric verification: the verdict (issue 10, src/verify/verify.hpp, docs/CONFIG.md). Each
+// Geometric verification: the verdict (src/verify/verify.hpp, docs/CONFIG.md). Each
 // scan's depth is rendered into the other scan's views under the estimate; `valid` means the
 // surfaces coincide where both scans see the same space and neither scan puts a surface where the
 // other camera saw through.
 struct VerifyConfig {
-  // false: the verdict is RANSAC's count test alone (RansacConfig), as before issue 10.
+  // false: the verdict is RANSAC's count test alone (RansacConfig), the earlier flow.
   bool enabled = true;
   // Every pixel_stride-th depth pixel (in x and y) of each view is rendered into the other scan.
   // 0 = follow the image size: at most 160 samples across a view (every 4th pixel at 640 and
@@ -487,10 +487,10 @@ struct ObjectsConfig {
   double association_min_appearance = 0.0;
   // Views where the detector's objects (those with at least min_points) number fewer than this
   // are topped up with class-agnostic depth-region proposals (label "object", src/objects/
-  // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask; issue 11.
+  // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask.
   // 0 = detections only (the paper's flow).
   int proposals_below = 0;
-  // Which image appearance descriptor each object gets (src/objects/appearance.hpp, issue 11):
+  // Which image appearance descriptor each object gets (src/objects/appearance.hpp):
   // "auto" = the SAM image embedding pooled over the mask when the segmenter computes one
   // (segmenter.backend = sam), the colour histogram otherwise; "colour" = always the colour
   // histogram; "sam-embedding" = always the embedding (needs segmenter.backend = sam).
@@ -529,18 +529,18 @@ struct MethodConfig {
   // pair's time. Frames (one view pair) are the same either way.
   int whole_image_max_view_pairs = -1;
   // Which view pairs §3.4 matches inside a matched object pair: true = every view that sees the
-  // source object with every view that sees the target object (issue 12, "use all views of a
+  // source object with every view that sees the target object ("use all views of a
   // scan"); false = view i with view i only. Frames (one view) are the same either way.
   bool object_all_view_pairs = true;
 };
 
-// Several hypotheses, one judge (issue 12, src/pipeline/hypotheses.hpp): besides the method's own
+// Several sources, one judge (src/pipeline/arbiter.hpp): besides the method's own
 // estimate (object correspondences, then the whole-image fallback), further candidate transforms
 // come from other sources; each is estimated, refined and checked by the geometric verification
 // (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
 struct HypothesesConfig {
   // On: when the method's own estimate is not valid, the sources below are tried as well. Off:
-  // the paper's flow alone. On by default since issue 12's second measurement: 3DMatch /
+  // the paper's flow alone. On by default: 3DMatch /
   // 3DLoMatch redkitchen RR 98.1 -> 100 % and 71.4 -> 78.6 %, more valid right results on
   // redkitchen-cross (+5), redkitchen-gap60 (+4) and cabinet-gap1 (+1), no valid-wrong one
   // anywhere; one cabinet-gap3 pair (19-22) becomes valid at 5.4 deg / 6.6 cm where the refused
@@ -627,7 +627,7 @@ struct HypothesesConfig {
   // correlation of the two images' grey levels at the agreeing samples
   // (VerificationResult::brightness_rank_correlation; order of brightness survives exposure
   // changes) is at least this. Unknown (fewer than 30 agreeing samples with colour) does not
-  // refuse. Measured (twenty-third session): 0.48-0.96 on all 648 valid (right) results of the
+  // refuse. Measured: 0.48-0.96 on all 648 valid (right) results of the
   // frame lists, 0.58-0.78 on the geometry source's right results there and on the fragments,
   // 0.51-0.92 on the right results of scripts/bench-negatives.py's low-overlap pairs; -0.38 to
   // 0.31 on the geometry source's valid poses between two different rooms (5 of 180

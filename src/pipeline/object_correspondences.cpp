@@ -209,7 +209,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       }
       timer.Mark("detect");
     }
-    // Issue 11: each object's appearance beside its label; the SAM embedding pooled over the mask
+    // Each object's appearance beside its label; the SAM embedding pooled over the mask
     // where the segmenter computed one (objects.appearance = auto or sam-embedding).
     std::optional<EmbeddingPooler> pooler;
     if (config_.objects.appearance != "colour" && !masks.embedding.empty()) {

@@ -543,9 +543,7 @@ TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
 }
 
 // hololens-gap5 18 -> 23, a floor pair: the object estimate is valid but 13 deg / 24 cm off; the
-// whole image's correspondences fix the open motion (0.04 deg / 0.4 cm). (Until the nineteenth
-// session this test used 250 -> 255; with thin depth gaps no longer mask edges, that pair's object
-// path has three times the inliers and lies within ICP's final gate of the whole image's.)
+// whole image's correspondences fix the open motion (0.04 deg / 0.4 cm).
 TEST(ImageRival, RealDegeneratePairTakesTheWholeImageEstimate) {
   const std::string dir = testing::SharedDir() + "/data/hololens-office";
   const Scan source = LoadScan(dir + "@23"), target = LoadScan(dir + "@18");
@@ -665,8 +663,8 @@ TEST(ImageRival, SingleObjectMatchGivesWayToTheBetterScoredOne) {
 // hololens-cross 31 -> 194: ICP rescued a 32-correspondence object estimate to 2.2 deg / 5.1 cm
 // (score 0.316); the whole image's estimate is 0.6 deg / 2.5 cm and scores 0.484. That object
 // estimate came from masks cut up by the HoloLens depth's thin gaps (every missing pixel a mask
-// edge, `segmenter.min_hole_width_px` = 1, the rule before the nineteenth session), which this
-// test keeps; with the default masks the object path gives the whole image's answer itself.
+// edge, `segmenter.min_hole_width_px` = 1), which this test keeps; with the default masks the
+// object path gives the whole image's answer itself.
 TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   const std::string dir = testing::SharedDir() + "/data/hololens-office";
   const Scan source = LoadScan(dir + "@194"), target = LoadScan(dir + "@31");

@@ -127,7 +127,7 @@ TEST(RegisterReal, WholeImageMatchingPairsDifferentViewsWhenOnlyTheyOverlap) {
   for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
 }
 
-// Issue 12, item 3: the object level matches a matched object in every view that sees it, not
+// The object level matches a matched object in every view that sees it, not
 // only view i with view i. With the views crossed as above, the objects' correspondences (and the
 // inliers) come from the crossed view pairs; with object_all_view_pairs off there are none there.
 TEST(RegisterReal, ObjectLevelMatchesEveryViewPairThatSeesTheObject) {
@@ -203,7 +203,7 @@ TEST(RegisterReal, UnrelatedImagesAreReportedAsFailureNotIdentity) {
   EXPECT_FALSE(r.valid);
   EXPECT_FALSE(r.reason.empty());
 
-  // The depth is untouched, so the geometry hypothesis (FPFH on the clouds, issue 12) can still
+  // The depth is untouched, so the geometry hypothesis (FPFH on the clouds) can still
   // register the pair: whatever the default returns, valid means right.
   const RegistrationResult d = Register(source, target);
   if (d.valid) {
@@ -214,7 +214,7 @@ TEST(RegisterReal, UnrelatedImagesAreReportedAsFailureNotIdentity) {
   }
 }
 
-// Issue 10: this pair was reported VALID 15 cm off (none of its correspondences within 0.1 m of
+// This pair was reported VALID 15 cm off (none of its correspondences within 0.1 m of
 // the true pose) by the count verdict. The scans contradict each other under every estimate the
 // pipeline finds, so the geometric check must refuse it.
 TEST(RegisterReal, ConfidentWrongPairOfIssue10IsInvalid) {
