@@ -15,12 +15,12 @@ struct FeatureConfig {
   // XFeat: minimum keypoint heatmap probability (upstream detection threshold).
   double xfeat_detection_threshold = 0.05;
   // XFeat's fixed 640x640 input: true = scale the image uniformly to fit and fill the rest (keeps
-  // the aspect ratio, issue 10); false = stretch it to the square (before issue 10; a 540x360
+  // the aspect ratio); false = stretch it to the square (the earlier rule; a 540x360
   // HoloLens frame is stretched 1.19x / 1.78x). Kept as a switch for the ablation in CONFIG.md.
   bool xfeat_keep_aspect = true;
   // XFeat's input size. false = the scaled image padded only to multiples of 32 (a 640x480 frame
   // runs at 640x480), through the export rewritten for any size (xfeat/xfeat_any_size.onnx,
-  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (before issue 13's
+  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (the earlier
   // change: a quarter of a 640x480 frame's XFeat work went to the fill). Stretching
   // (xfeat_keep_aspect false) always uses the square.
   bool xfeat_square_input = false;
@@ -52,7 +52,7 @@ struct LiftConfig {
   // The a of the view being lifted (metres at 1 m), set per view by the pipeline (LiftForView);
   // not a setting (not read from or written to JSON). 0 = unknown: no noise floor.
   double view_depth_noise_at_1m_m = 0.0;
-  // true: an invalid pixel within the radius also makes an edge (before issue 10; for the
+  // true: an invalid pixel within the radius also makes an edge (the earlier rule; for the
   // ablation in docs/CONFIG.md).
   bool holes_are_edges = false;
 };
@@ -133,14 +133,6 @@ struct ObjectMatchConfig {
   // tree before pruning). 2e6 covers n = m = 8 (1441729): measured worst case 1.6 ms on scene
   // graphs and 10 ms on dense random matrices (9 x 9 dense reaches 80 ms). docs/MATCHING.md.
   std::uint64_t max_exact_assignments = 2000000;
-  // Rigidity check of the matched objects (src/object_match/rigidity.hpp): after Eq. 2 and the
-  // label filter, only the largest set of matches whose centroid distances agree pairwise within
-  // this many metres (plus the change of each object's visible extent) is kept: a rigid motion
-  // preserves distances. 0 = off (the paper's flow, the default). 0.3 m, the paper's centroid
-  // tolerance (method.object_centroid_threshold_m), raised object-match precision on three
-  // redkitchen frame lists and 3DMatch but lowered it on 3DLoMatch and cost the object path a few
-  // pairs, at the same registrations (docs/MATCHING.md); not taken as the default.
-  double rigidity_tolerance_m = 0.0;
   // Point support of a candidate object pair (§3.4 evidence used in §3.3): the point matches
   // between the two objects' keypoints (every view pair), and the most of them one rigid motion
   // explains (the clique estimator at ransac.inlier_threshold_m, src/estimate/max_clique.hpp).
@@ -225,7 +217,7 @@ struct SemanticsConfig {
   std::string backend = "clip-table";
 };
 
-// Which runtime executes the ONNX models (XFeat, YOLOX, SAM; issue 11, docs/PERCEPTION.md). Both
+// Which runtime executes the ONNX models (XFeat, YOLOX, SAM; docs/PERCEPTION.md). Both
 // engines get the same input tensors and their outputs go through the same decoding code; only the
 // forward pass differs.
 struct InferenceConfig {
@@ -339,7 +331,7 @@ struct RansacConfig {
   // Count test: the correspondences support an estimate only with at least this many inliers,
   // this inlier ratio and this spread. With verification on (the default) this is the evidence
   // that RANSAC found a consensus, and the geometric check decides `valid`; without it, it is the
-  // whole verdict. 10 inliers: at 20 (before issue 10) the count test refused right estimates
+  // whole verdict. 10 inliers: at 20 (earlier) the count test refused right estimates
   // on every list (hololens-gap5 5, hololens-cross 6, cabinet-gap3 7, redkitchen-cross 10 of
   // them) and lowering it let no wrong one through the check (docs/CONFIG.md, "The verdict").
   int min_inliers = 10;
@@ -406,11 +398,6 @@ struct RefineConfig {
   // refinement keeps the evidence it started from (docs/CONFIG.md, "The verdict"). Applied only
   // when the check accepted the estimate; an estimate it refused leaves ICP to the check alone.
   double min_kept_inlier_fraction = 0.5;
-  // true: an object-level estimate the check refuses is refined (and checked again) before the
-  // whole-image fallback is tried; when the fallback is tried after all, its estimate is refined
-  // too before the two are compared. false: only the returned estimate is refined. docs/CONFIG.md,
-  // "The verdict".
-  bool before_fallback = true;
   double anchor_weight_fine = 0.0;
   // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
   // at every iterate (a Gaussian maximum-likelihood fit of both), instead of the fixed shares
@@ -429,12 +416,12 @@ struct RefineConfig {
   // geometric check scores it at least as well as the estimate it started from.
 };
 
-// Geometric verification: the verdict (issue 10, src/verify/verify.hpp, docs/CONFIG.md). Each
+// Geometric verification: the verdict (src/verify/verify.hpp, docs/CONFIG.md). Each
 // scan's depth is rendered into the other scan's views under the estimate; `valid` means the
 // surfaces coincide where both scans see the same space and neither scan puts a surface where the
 // other camera saw through.
 struct VerifyConfig {
-  // false: the verdict is RANSAC's count test alone (RansacConfig), as before issue 10.
+  // false: the verdict is RANSAC's count test alone (RansacConfig), the earlier flow.
   bool enabled = true;
   // Every pixel_stride-th depth pixel (in x and y) of each view is rendered into the other scan.
   // 0 = follow the image size: at most 160 samples across a view (every 4th pixel at 640 and
@@ -499,10 +486,10 @@ struct ObjectsConfig {
   double association_min_appearance = 0.0;
   // Views where the detector's objects (those with at least min_points) number fewer than this
   // are topped up with class-agnostic depth-region proposals (label "object", src/objects/
-  // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask; issue 11.
+  // proposals.hpp) that do not lie mostly (half their area) inside a detection's mask.
   // 0 = detections only (the paper's flow).
   int proposals_below = 0;
-  // Which image appearance descriptor each object gets (src/objects/appearance.hpp, issue 11):
+  // Which image appearance descriptor each object gets (src/objects/appearance.hpp):
   // "auto" = the SAM image embedding pooled over the mask when the segmenter computes one
   // (segmenter.backend = sam), the colour histogram otherwise; "colour" = always the colour
   // histogram; "sam-embedding" = always the embedding (needs segmenter.backend = sam).
@@ -524,10 +511,6 @@ struct MethodConfig {
   bool scene_graph = true;
   // false: labels compared by equality only, no CLIP text features ("w/o CLIP").
   bool clip = true;
-  // true: label-incompatible pairs are forbidden inside the assignment of Eq. 2, not only dropped
-  // after it as the paper does. Without it the structural term often prefers a wrong matching on
-  // near-regular kNN graphs (measured on synthetic scenes, docs/MATCHING.md).
-  bool label_mask_in_solve = true;
   // Fall back to whole-image matching when the object level yields fewer matched object pairs or
   // fewer point correspondences than this.
   int min_object_matches = 1;
@@ -545,12 +528,12 @@ struct MethodConfig {
   // pair's time. Frames (one view pair) are the same either way.
   int whole_image_max_view_pairs = -1;
   // Which view pairs §3.4 matches inside a matched object pair: true = every view that sees the
-  // source object with every view that sees the target object (issue 12, "use all views of a
+  // source object with every view that sees the target object ("use all views of a
   // scan"); false = view i with view i only. Frames (one view) are the same either way.
   bool object_all_view_pairs = true;
 };
 
-// Several hypotheses, one judge (issue 12, src/pipeline/hypotheses.hpp): besides the method's own
+// Several sources, one judge (src/pipeline/arbiter.hpp): besides the method's own
 // estimate (object correspondences, then the whole-image fallback), further candidate transforms
 // come from other sources; each is estimated, refined and checked by the geometric verification
 // (VerifyConfig), and the best verified one is returned. Needs verify.enabled.
@@ -672,14 +655,14 @@ struct HypothesesConfig {
   // matching per degenerate object-path pair.
   bool image_rival_degenerate = true;
   // true: an object-path estimate the check refused, which passed only after ICP moved it
-  // (refine.before_fallback), is also checked against the whole-image one, as image_rival does
-  // for every object-path estimate. Its own correspondences did not make the scans agree, so the
-  // estimate rests on ICP's basin, which one or a few objects' worth of correspondences place
-  // less surely than the whole image's. If the whole-image estimate is valid, scores higher and
-  // lies more than refine.max_distance_final_m from it in RMS displacement over the source
-  // scan's surface samples (closer, they are the same answer and the object path keeps it), it
-  // replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object estimate to
-  // 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
+  // (every candidate is refined before the next is asked), is also checked against the whole-image
+  // one, as image_rival does for every object-path estimate. Its own correspondences did not make
+  // the scans agree, so the estimate rests on ICP's basin, which one or a few objects' worth of
+  // correspondences place less surely than the whole image's. If the whole-image estimate is valid,
+  // scores higher and lies more than refine.max_distance_final_m from it in RMS displacement over
+  // the source scan's surface samples (closer, they are the same answer and the object path keeps
+  // it), it replaces it. On hololens-cross 31 -> 194 ICP rescued a 32-correspondence object
+  // estimate to 2.2 deg / 5.1 cm (score 0.316, free-space violations 4.5 %); the whole image's was
   // 0.6 deg / 2.5 cm (score 0.484). Where the check finds the geometry degenerate the score
   // cannot decide and this rule stands aside (image_rival_degenerate judges by inliers there).
   // Off with hypotheses.enabled = false. Costs one whole-image matching, estimate and ICP per

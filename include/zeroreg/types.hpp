@@ -139,6 +139,35 @@ struct CandidateSummary {
   bool outside_prior = false;  // passed, but beyond the caller's MotionPrior (so not valid)
 };
 
+// Which test made a result not valid, with what it measured and the threshold it missed (units
+// per test below). RegistrationResult::reason is the prose; this is what decides.
+enum class RefusalTest {
+  kNone,                // valid
+  kFewCorrespondences,  // correspondences; 3 (a rigid transform needs three)
+  kFewInliers,          // inliers of the estimate; ransac.min_inliers
+  kInliersOnALine,      // spread of the inliers across their line (m); ransac.min_inlier_spread_m
+  kLowInlierRatio,      // inliers / correspondences; ransac.min_inlier_ratio
+  kLittleDepth,         // the smaller scan's surface samples; verify.min_points
+  kLowOverlap,          // overlap fraction under the transform; verify.min_overlap
+  kFreeSpaceViolation,  // free-space violation fraction; verify.max_violation
+  kOutsidePrior,        // rotation (deg) or, when that is within, translation (m) from the prior;
+                        // the prior's tolerance in the same unit
+  kDegenerate,          // probe_contradicted; verify.min_probe_contradicted (a source whose
+                        // correspondences cannot fix the motion the geometry leaves open)
+  kImagesDisagree,      // brightness rank correlation; hypotheses.min_brightness_rank_correlation
+  kAnotherPosePasses,   // RMS apart of the estimate and ICP's pose, both accepted (m);
+                        // refine.max_distance_coarse_m
+};
+struct Refusal {
+  RefusalTest test = RefusalTest::kNone;
+  double measured = 0.0;
+  double threshold = 0.0;
+};
+// The name of a test as the JSON result and Python write it ("few_inliers", ...; "" for kNone).
+const char* RefusalTestName(RefusalTest test);
+// One sentence made from the fields (empty for kNone).
+std::string DescribeRefusal(const Refusal& refusal);
+
 struct RegistrationResult {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
@@ -146,6 +175,7 @@ struct RegistrationResult {
   // is not valid; false without a prior.
   bool outside_prior = false;
   std::string reason;  // why valid is false (or a short summary when true)
+  Refusal refusal;     // the test that refused it, as data; test == kNone exactly when valid
   std::string path;    // which correspondence source produced the transform, e.g. "image"
   int num_keypoints_source = 0;
   int num_keypoints_target = 0;
@@ -167,7 +197,7 @@ struct RegistrationResult {
   std::vector<ObjectSummary> source_objects;
   std::vector<ObjectSummary> target_objects;
   std::vector<ObjectMatchSummary> object_matches;
-  // Matches of Eq. 2 that object_match.rigidity_tolerance_m, object_match.motion_agreement or
+  // Matches of Eq. 2 that object_match.motion_agreement or
   // object_match.agree_with_result removed (not in object_matches).
   int rejected_object_matches = 0;
   std::vector<StageTime> timings;

@@ -709,6 +709,18 @@ void BindResult(py::module_& m) {
                     "True when the check passed but the pose lies beyond the motion prior given "
                     "to register() (so valid is False).")
       .def_readonly("reason", &RegistrationResult::reason)
+      .def_property_readonly(
+          "refusal",
+          [](const RegistrationResult& r) -> py::object {
+            if (r.refusal.test == RefusalTest::kNone) return py::none();
+            py::dict d;
+            d["test"] = RefusalTestName(r.refusal.test);
+            d["measured"] = r.refusal.measured;
+            d["threshold"] = r.refusal.threshold;
+            return d;
+          },
+          "None when valid; else a dict: test (e.g. 'few_inliers', 'low_overlap', "
+          "'outside_prior'), measured, threshold (units: RefusalTest in zeroreg/types.hpp).")
       .def_readonly("path", &RegistrationResult::path,
                     "Which correspondence source produced the transform, e.g. 'image'.")
       .def_property_readonly("counts", &Counts,
@@ -816,8 +828,8 @@ void BindResult(py::module_& m) {
           "motion explains; -1 when object_match.min_point_support is 0 and "
           "object_match.motion_agreement is false).")
       .def_readonly("rejected_object_matches", &RegistrationResult::rejected_object_matches,
-                    "Matches of Eq. 2 that the rigidity check (object_match.rigidity_tolerance_m), "
-                    "the motion agreement (object_match.motion_agreement) or the check against "
+                    "Matches of Eq. 2 that the motion agreement (object_match.motion_agreement) "
+                    "or the check against "
                     "the valid result (object_match.agree_with_result) dropped; they are not in "
                     "object_matches.")
       .def_property_readonly(

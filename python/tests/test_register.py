@@ -307,3 +307,12 @@ def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
     with pytest.raises(TypeError) as error:
         pipeline.register(frame_spec(20), frame_spec(0), prior=near, prior_max_translation_m=None)
     assert "prior_max_translation_m" in str(error.value)
+
+
+def test_refusal_is_data_none_when_valid(result_20_0_from_paths):
+    assert result_20_0_from_paths.valid and result_20_0_from_paths.refusal is None
+    strict = zeroreg.Pipeline({"ransac": {"min_inliers": 100000}, "hypotheses": {"enabled": False}})
+    r = strict.register(frame_spec(20), frame_spec(0))
+    assert not r.valid
+    assert r.refusal == {"test": "few_inliers", "measured": float(r.counts["inliers"]),
+                         "threshold": 100000.0}

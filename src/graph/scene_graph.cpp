@@ -27,14 +27,6 @@ Eigen::MatrixXd NormalizedRows(const Eigen::MatrixXd& s) {
 
 }  // namespace
 
-double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,
-                        const Eigen::Ref<const Eigen::VectorXd>& b) {
-  const double na = a.norm();
-  const double nb = b.norm();
-  if (na == 0.0 || nb == 0.0) return 0.0;
-  return a.dot(b) / (na * nb);
-}
-
 Eigen::MatrixXd BuildAffinityMatrix(const Eigen::MatrixXd& centroids,
                                     const Eigen::MatrixXd& semantics,
                                     const SceneGraphConfig& config) {

@@ -10,10 +10,6 @@
 
 namespace zeroreg {
 
-// Cosine similarity of two vectors; 0 when either is the zero vector (no semantic evidence).
-double CosineSimilarity(const Eigen::Ref<const Eigen::VectorXd>& a,
-                        const Eigen::Ref<const Eigen::VectorXd>& b);
-
 // Affinity matrix W of Eq. 1 (N x N, zero diagonal):
 //   W_jk = 1 + cos(s_j, s_k)  if v_k in kNN(v_j) (k != j),  else 0,
 // made symmetric with max when config.symmetric. Ties in distance go to the lower index, so the

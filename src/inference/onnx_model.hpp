@@ -15,9 +15,6 @@ namespace zeroreg {
 
 enum class InferenceEngine { kOnnxRuntime, kOpenCv };
 
-// "onnxruntime" / "opencv".
-std::string EngineName(InferenceEngine engine);
-
 // Whether this build links ONNX Runtime (CMake ZEROREG_WITH_ONNXRUNTIME, docs/INSTALL.md).
 bool OnnxRuntimeAvailable();
 

@@ -3,11 +3,11 @@
 // Each matched object pair comes with its point support: the point matches between the two
 // objects that one rigid motion explains (its inliers). The whole scene moves rigidly between two
 // scans, so two right matches move together, even when an object is seen partly and its centroid
-// moves (the rigidity check, rigidity.hpp, compares centroids and cannot tell that case from a
-// wrong match). Two matches agree when one rigid motion fitted to both's inliers carries at least
-// half of each's inliers to within the threshold: fitted to two objects, the motion has a lever
-// arm of metres, where a cup's own motion has centimetres. When a strict majority of the matches
-// agree pairwise, the others are dropped; otherwise nothing is decided and every match stays.
+// moves (a check of centroid distances cannot tell that case from a wrong match). Two matches agree
+// when one rigid motion fitted to both's inliers carries at least half of each's inliers to within
+// the threshold: fitted to two objects, the motion has a lever arm of metres, where a cup's own
+// motion has centimetres. When a strict majority of the matches agree pairwise, the others are
+// dropped; otherwise nothing is decided and every match stays.
 #pragma once
 
 #include <Eigen/Core>

@@ -146,7 +146,7 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
   const std::vector<std::pair<int, int>> view_pairs =
       ChooseViewPairs(source, target, choice, threads);
   // A fragment pair has 9 view pairs of a few thousand keypoints each: one Sinkhorn per pair is
-  // most of its matching time (issue 13), so the pairs are shared among the threads. A frame pair
+  // most of its matching time, so the pairs are shared among the threads. A frame pair
   // has one, and its matcher gets the threads instead.
   std::vector<std::vector<Correspondence>> per_pair(view_pairs.size());
   const int matcher_threads = view_pairs.size() == 1 ? threads : 1;

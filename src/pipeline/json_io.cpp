@@ -142,7 +142,6 @@ void Visit(V& v, RefineConfig& c) {
   v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0.0));
   v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
-  v("before_fallback", c.before_fallback);
   v("max_iterations", c.max_iterations, Iterations(0, 1000));
 }
 template <typename V>
@@ -209,7 +208,6 @@ void Visit(V& v, ObjectMatchConfig& c) {
   v("target_edge_weight", c.target_edge_weight, AtLeast(0));
   v("appearance_weight", c.appearance_weight, AtLeast(0));
   v("max_exact_assignments", c.max_exact_assignments);
-  v("rigidity_tolerance_m", c.rigidity_tolerance_m, AtLeast(0));
   v("min_point_support", c.min_point_support, AtLeast(0));
   v("motion_agreement", c.motion_agreement);
   v("complete_by_motion", c.complete_by_motion);
@@ -225,7 +223,6 @@ void Visit(V& v, MethodConfig& c) {
   v("object_centroid_threshold_m", c.object_centroid_threshold_m, Positive());
   v("scene_graph", c.scene_graph);
   v("clip", c.clip);
-  v("label_mask_in_solve", c.label_mask_in_solve);
   v("min_object_matches", c.min_object_matches, AtLeast(0));
   v("min_object_correspondences", c.min_object_correspondences, AtLeast(0));
   v("whole_image_all_view_pairs", c.whole_image_all_view_pairs);
@@ -561,6 +558,13 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"inlier_spread_m", r.inlier_spread_m},
          {"count_test_passed", r.count_test_passed},
          {"timings_ms", timings}};
+  // The refusal as data (null for a valid result); `reason` stays the prose.
+  j["refusal"] = nullptr;
+  if (r.refusal.test != RefusalTest::kNone) {
+    j["refusal"] = {{"test", RefusalTestName(r.refusal.test)},
+                    {"measured", r.refusal.measured},
+                    {"threshold", r.refusal.threshold}};
+  }
   if (r.verification.ran) {
     const VerificationResult& v = r.verification;
     j["verification"] = {

@@ -13,7 +13,6 @@
 #include "graph/scene_graph.hpp"
 #include "object_match/graph_match.hpp"
 #include "object_match/motion_agreement.hpp"
-#include "object_match/rigidity.hpp"
 #include "objects/proposals.hpp"
 
 namespace zeroreg {
@@ -210,7 +209,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
       }
       timer.Mark("detect");
     }
-    // Issue 11: each object's appearance beside its label; the SAM embedding pooled over the mask
+    // Each object's appearance beside its label; the SAM embedding pooled over the mask
     // where the segmenter computed one (objects.appearance = auto or sam-embedding).
     std::optional<EmbeddingPooler> pooler;
     if (config_.objects.appearance != "colour" && !masks.embedding.empty()) {
@@ -298,7 +297,9 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     for (const SceneObject& o : objects_s) labels_s.push_back(o.label);
     for (const SceneObject& o : objects_t) labels_t.push_back(o.label);
     const MatchMask labels_agree = LabelCompatibilityMask(labels_s, labels_t);
-    MatchMask allowed = config_.method.label_mask_in_solve ? labels_agree : MatchMask();
+    // Label-incompatible pairs are forbidden inside Eq. 2, not only dropped after it as the paper
+    // does: otherwise the structural term often prefers a wrong matching on near-regular graphs.
+    MatchMask allowed = labels_agree;
     // Point support: the label-compatible pairs whose surfaces do not match point to point are
     // not candidates of Eq. 2 (object_match.min_point_support). Their matches are kept for §3.4.
     if (config_.object_match.min_point_support > 0) {
@@ -317,26 +318,6 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
     // Paper §3.3: drop matched pairs whose labels differ.
     pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
-    // Then the matches whose centroid distances contradict the others' (a rigid motion keeps
-    // them), when switched on.
-    if (config_.object_match.rigidity_tolerance_m > 0) {
-      // Centroids and visible extents (RMS radii) of one scan's objects.
-      const auto shape = [](const std::vector<SceneObject>& objects,
-                            std::vector<Eigen::Vector3d>* centroids, std::vector<double>* radii) {
-        for (const SceneObject& o : objects) {
-          centroids->push_back(o.centroid);
-          radii->push_back(RmsRadius(o.points, o.centroid));
-        }
-      };
-      std::vector<Eigen::Vector3d> points_s, points_t;
-      std::vector<double> radius_s, radius_t;
-      shape(objects_s, &points_s, &radius_s);
-      shape(objects_t, &points_t, &radius_t);
-      RigidityCheck rigid = CheckRigidity(
-          pairs, points_s, points_t, config_.object_match.rigidity_tolerance_m, radius_s, radius_t);
-      pairs = std::move(rigid.kept);
-      result.rejected_object_matches = static_cast<int>(rigid.dropped.size());
-    }
     // Then the matches whose own motions disagree with the majority's (the scene moves as one).
     if (config_.object_match.motion_agreement) {
       // Each match's motion comes with its point support: measured before Eq. 2 for every

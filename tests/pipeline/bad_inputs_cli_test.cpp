@@ -1,4 +1,4 @@
-// Issue 15: bad or unusual input to the command line. Each case asserts the exit code (2 = bad
+// Bad or unusual input to the command line. Each case asserts the exit code (2 = bad
 // input, never 3 = internal error) and that the message names the file or argument at fault.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -86,7 +86,7 @@ TEST_F(CliBadInput, SetMessagesSayWhatWasGiven) {
 
 // ---- files that are folders or FIFOs ------------------------------------------------------------
 
-// inference.engine (issue 11): an unknown engine, a thread count out of range, and (in a build
+// inference.engine: an unknown engine, a thread count out of range, and (in a build
 // without ONNX Runtime) the engines and backends that need it, each named.
 TEST_F(CliBadInput, InferenceEngineAndSamNamed) {
   ExpectClearError(Run("--set inference.engine=tensorrt"), "inference.engine",

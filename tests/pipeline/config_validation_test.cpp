@@ -1,4 +1,4 @@
-// Issue 15: every config value is type- and range-checked where it enters (JSON files, --set,
+// Every config value is type- and range-checked where it enters (JSON files, --set,
 // Python dicts, configs built in C++), with messages that name the source and the key path.
 #include <gtest/gtest.h>
 

@@ -65,9 +65,10 @@ TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
   const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
   EXPECT_FALSE(with.valid && !Right(with, p.gt)) << with.path << ": " << with.reason;
   EXPECT_TRUE(with.outside_prior) << with.reason;  // the flip passed the check, beyond the prior
-  EXPECT_NE(with.reason.find("from the motion prior (tolerance 15.0 deg, 30.0 cm)"),
-            std::string::npos)
-      << with.reason;
+  // The refusal as data: the flip's rotation from the prior, beyond its 15 deg.
+  EXPECT_EQ(with.refusal.test, RefusalTest::kOutsidePrior) << with.reason;
+  EXPECT_EQ(with.refusal.threshold, 15.0);
+  EXPECT_GT(with.refusal.measured, with.refusal.threshold);
   EXPECT_NE(with.reason.find("[motion prior: ICP from it"), std::string::npos) << with.reason;
   // The flip is listed as a candidate the check passed, beyond the prior.
   EXPECT_TRUE(std::any_of(with.candidates.begin(), with.candidates.end(),

@@ -1,7 +1,7 @@
 // Point support of an object pair (object_match.min_point_support, docs/MATCHING.md "Point support
 // of an object pair"): Eq. 2 may match two objects only if one rigid motion explains at least that
 // many of the point matches between them. Checked on real redkitchen frames against the ground
-// truth: the centroid test of issue 11 (0.3 m) says which object matches are right.
+// truth: the centroid test (0.3 m) says which object matches are right.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>

@@ -1,4 +1,4 @@
-// Issue 13: Pipeline::Prepare + Register(prepared, prepared) gives the result of Register(scan,
+// Pipeline::Prepare + Register(prepared, prepared) gives the result of Register(scan,
 // scan) bit for bit, on real frames, whatever the number of threads and however often a prepared
 // scan is reused; and a prepared scan is refused by another Pipeline.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// Issue 15: one Pipeline shared by several threads gives, for every call, exactly the result of a
+// One Pipeline shared by several threads gives, for every call, exactly the result of a
 // single-threaded call (YOLOX, Darknet and XFeat run one cv::dnn::Net per model, under a lock).
 #include <gtest/gtest.h>
 

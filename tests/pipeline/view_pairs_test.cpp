@@ -1,5 +1,5 @@
-// Which view pairs whole-image matching uses (method.whole_image_max_view_pairs, issue 12 item 3
-// and issue 13): the overlap score finds the views that share a place, on synthetic descriptors
+// Which view pairs whole-image matching uses (method.whole_image_max_view_pairs):
+// the overlap score finds the views that share a place, on synthetic descriptors
 // where which views share one is known exactly.
 #include <gtest/gtest.h>
 

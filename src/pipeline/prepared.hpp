@@ -1,0 +1,41 @@
+// What Pipeline::Prepare keeps of one scan (PreparedScan::Data), shared by the sources, the judge
+// and the arbiter of the pair stage.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "estimate/icp.hpp"
+#include "pipeline/correspondence_source.hpp"
+#include "verify/verify.hpp"
+#include "zeroreg/register.hpp"
+
+namespace zeroreg {
+
+struct PreparedScan::Data {
+  std::uint64_t pipeline_id = 0;  // the Pipeline that made it (its config decided all of it)
+  Scan scan;
+  std::shared_ptr<const PerceivedScan> perceived;  // features, detections, masks, objects
+  std::vector<SurfacePoint> surface;               // verification samples (verify.enabled)
+  IcpGeometry icp;                                 // ICP clouds per resolution (refine.enabled)
+  std::vector<StageTime> timings;
+  std::size_t memory_bytes = 0;
+  // hypotheses.turned_images: the features of the turned colour images, made the first time a
+  // pair with this scan as its source needs them (most scans never do), then shared by every such
+  // pair (ExtractTurnedFeatures).
+  mutable std::once_flag turned_once;
+  mutable TurnedFeatures turned;
+  // What `turned` holds once made (MemoryBytes includes it from then on; 0 before).
+  mutable std::atomic<std::size_t> turned_bytes{0};
+};
+
+using Prepared = PreparedScan::Data;
+
+// Heap bytes of one view's features: keypoints with their scores, descriptors, 3D points.
+std::size_t LiftedFeaturesBytes(const LiftedFeatures& f);
+
+}  // namespace zeroreg
