@@ -223,6 +223,10 @@ class OrtModel : public OnnxModel {
 
 }  // namespace
 
+std::string EngineName(InferenceEngine engine) {
+  return engine == InferenceEngine::kOnnxRuntime ? "onnxruntime" : "opencv";
+}
+
 bool OnnxRuntimeAvailable() {
 #ifdef ZEROREG_WITH_ONNXRUNTIME
   return true;

@@ -15,6 +15,9 @@ namespace zeroreg {
 
 enum class InferenceEngine { kOnnxRuntime, kOpenCv };
 
+// "onnxruntime" / "opencv" (what `zeroreg info` reports).
+std::string EngineName(InferenceEngine engine);
+
 // Whether this build links ONNX Runtime (CMake ZEROREG_WITH_ONNXRUNTIME, docs/INSTALL.md).
 bool OnnxRuntimeAvailable();
 
