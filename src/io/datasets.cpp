@@ -504,6 +504,15 @@ class ScanNetDataset : public Dataset {
   std::map<int, std::string> colors_;  // id -> colour file name
 };
 
+// The 3DMatch folder a frame file `frame-N.color.*` lies in, opened with the options' depth scale.
+ThreeDMatchDataset FolderOfFrameFile(const fs::path& frame_file, const DatasetOptions& options) {
+  fs::path folder = frame_file.parent_path();
+  if (folder.empty()) folder = ".";
+  return ThreeDMatchDataset(folder.string(), folder,
+                            ResolveDepthScale(options, kThreeDMatchDepthScale),
+                            DepthScaleSource(options, "3DMatch"));
+}
+
 std::string ToLower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char ch) { return std::tolower(ch); });
   return s;
@@ -589,11 +598,7 @@ Scan LoadScan(const std::string& spec, const DatasetOptions& options) {
   std::smatch m;
   const std::string file = path.filename().string();
   if (std::regex_match(file, m, ThreeDMatchColorRegex())) {
-    fs::path folder = path.parent_path();
-    if (folder.empty()) folder = ".";
-    const ThreeDMatchDataset dataset(folder.string(), folder,
-                                     ResolveDepthScale(options, kThreeDMatchDepthScale),
-                                     DepthScaleSource(options, "3DMatch"));
+    const ThreeDMatchDataset dataset = FolderOfFrameFile(path, options);
     const int id = FrameIdFromDigits(m[1].str());
     if (id < 0) {
       throw MakeInputError(spec,
@@ -640,13 +645,8 @@ std::vector<std::string> ScanInputFiles(const std::string& spec, const DatasetOp
   const fs::path path(spec);
   const std::string file = path.filename().string();
   if (std::regex_match(file, m, ThreeDMatchColorRegex())) {
-    fs::path folder = path.parent_path();
-    if (folder.empty()) folder = ".";
-    const ThreeDMatchDataset dataset(folder.string(), folder,
-                                     ResolveDepthScale(options, kThreeDMatchDepthScale),
-                                     DepthScaleSource(options, "3DMatch"));
     const int id = FrameIdFromDigits(m[1].str());
-    if (id >= 0) return dataset.FrameFiles(id);
+    if (id >= 0) return FolderOfFrameFile(path, options).FrameFiles(id);
   }
   return {spec};
 }

@@ -45,22 +45,28 @@ std::string DumpJson(const nlohmann::json& json, int indent) {
 
 namespace {
 
+// Writes all of `text` to `fd`, retrying interrupted and partial writes; 0, or the errno of the
+// failure (EIO for a write that made no progress).
+int WriteAll(int fd, const std::string& text) {
+  size_t written = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return n < 0 ? errno : EIO;
+    written += static_cast<size_t>(n);
+  }
+  return 0;
+}
+
 // Writes `text` into the existing non-regular file `path` (a device, a FIFO, a terminal) as a
 // shell's `>` would: such a file is an endpoint, not a document to replace.
 void WriteThrough(const std::string& path, const std::string& text) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NOCTTY);
   if (fd < 0)
     throw MakeInputError(path, std::string("cannot be written (") + std::strerror(errno) + ")");
-  size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : EIO;
-      ::close(fd);
-      throw MakeInputError(path, std::string("cannot be written (") + std::strerror(error) + ")");
-    }
-    written += static_cast<size_t>(n);
+  if (const int error = WriteAll(fd, text)) {
+    ::close(fd);
+    throw MakeInputError(path, std::string("cannot be written (") + std::strerror(error) + ")");
   }
   if (::close(fd) != 0 && errno != EINTR) {
     throw MakeInputError(path, std::string("cannot be written (") + std::strerror(errno) + ")");
@@ -104,16 +110,9 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
   };
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw fail("cannot create " + temporary.string() + ": " + std::strerror(errno));
-  size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const int error = n < 0 ? errno : EIO;
-      ::close(fd);
-      throw fail(std::strerror(error));
-    }
-    written += static_cast<size_t>(n);
+  if (const int error = WriteAll(fd, text)) {
+    ::close(fd);
+    throw fail(std::strerror(error));
   }
   // The data reaches the disk before the rename makes it the file: after a crash or power loss
   // the file is the old one or the new one, never an empty one (ext4 and XFS may otherwise commit
