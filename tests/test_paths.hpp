@@ -1,9 +1,13 @@
 // Paths the tests use: the repo (from CMake), ../shared beside it, and the CLI binary.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 namespace zeroreg::testing {
@@ -12,6 +16,18 @@ inline std::string RepoDir() { return ZEROREG_REPO_DIR; }
 inline std::string SharedDir() { return RepoDir() + "/../shared"; }
 inline std::string RedkitchenDir() { return SharedDir() + "/data/7scenes-redkitchen"; }
 inline std::string CliPath() { return ZEROREG_CLI_PATH; }
+
+// An empty folder of the running test's own: PREFIX, the process id and the test's name under the
+// system's temporary folder (so that tests running at once never share one), emptied first.
+inline std::filesystem::path FreshTestDir(const std::string& prefix) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() /
+      (prefix + std::to_string(::getpid()) + "_" +
+       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  return dir;
+}
 
 struct CommandResult {
   int exit_code = -1;

@@ -85,8 +85,9 @@ RegistrationResult Arbiter::Decide(Proposal method, RegistrationResult scans) {
   if (!held.result.valid && whole_image) {
     Instead(&held);
   } else if (held.result.valid && held.result.path == "object" && whole_image &&
-             config.verify.enabled && DoubtOf(config, held).any(config)) {
-    Against(&held);
+             config.verify.enabled) {
+    const Doubt doubt = DoubtOf(config, held);
+    if (doubt.any(config)) Against(doubt, &held);
   }
   if (WantMoreSources(config, held.result)) MoreSources(&held);
   if (pair_.prior && !held.result.valid) FromPrior(&held);
@@ -129,9 +130,8 @@ void Arbiter::Instead(Judged* held) {
   }
 }
 
-void Arbiter::Against(Judged* held) {
+void Arbiter::Against(const Doubt& doubt, Judged* held) {
   const PipelineConfig& config = pair_.config;
-  const Doubt doubt = DoubtOf(config, *held);
   RegistrationResult& result = held->result;
   timer_.Restart();
   Proposal p;

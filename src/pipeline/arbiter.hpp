@@ -56,7 +56,8 @@ class Arbiter {
   // `winner` replaces *held, keeping what belongs to the scans (Adopt).
   static void Replace(Judged winner, Judged* held);
   void Instead(Judged* held);  // the whole images instead of a method candidate that failed
-  void Against(Judged* held);  // the whole images against a valid one that is not decisive
+  // The whole images against a valid one that is not decisive, for the reasons in `doubt`.
+  void Against(const Doubt& doubt, Judged* held);
   void MoreSources(Judged* held);
   void FromPrior(Judged* held);
 

@@ -14,6 +14,7 @@
 #include "eval/runner.hpp"
 #include "eval/session.hpp"
 #include "eval/summary.hpp"
+#include "test_paths.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/version.hpp"
 
@@ -82,11 +83,7 @@ std::vector<PairTask> Tasks(int n) {
 class EvalRunner : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("zeroreg_eval_runner_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = testing::FreshTestDir("zeroreg_eval_runner_");
     factory_ = [this]() { return std::make_unique<FakeMethod>(&calls_); };
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -26,13 +26,7 @@ using testing::RunCli;
 
 class EvalSmoke : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("zeroreg_eval_smoke_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  void SetUp() override { dir_ = testing::FreshTestDir("zeroreg_eval_smoke_"); }
   void TearDown() override { fs::remove_all(dir_); }
   std::string Out(const std::string& name) const { return (dir_ / name).string(); }
   static json ReadJson(const std::string& path) {

@@ -29,11 +29,7 @@ inline nlohmann::json TakeResultWithoutTimings(const std::string& path) {
 class CliBadInput : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("zeroreg_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    dir_ = testing::FreshTestDir("zeroreg_cli_");
     fs::copy_file(RedkitchenDir() + "/camera-intrinsics.txt", dir_ / "camera-intrinsics.txt");
     for (const char* id : {"000000", "000020"}) {
       for (const char* ext : {".color.jpg", ".depth.png", ".pose.txt"}) {
