@@ -66,7 +66,8 @@ std::string Describe(const Range& r, bool integer) {
 template <typename V>
 void Visit(V& v, FeatureConfig& c) {
   v("backend", c.backend);
-  v("max_keypoints", c.max_keypoints, AtLeast(1));
+  // Matching holds an n x m similarity of floats: 16384 keypoints a side are 1 GiB.
+  v("max_keypoints", c.max_keypoints, Iterations(1, 16384));
   v("xfeat_detection_threshold", c.xfeat_detection_threshold, Fraction());
   v("sift_contrast_threshold", c.sift_contrast_threshold, AtLeast(0));
 }
