@@ -123,6 +123,10 @@ Runner AddLoopsCommand(CLI::App& app) {
                  "its poses: a TUM trajectory file (first column the frame id), auto (the "
                  "dataset's own when it has them), gt, or none")
       ->capture_default_str();
+  app.add_option("--min-separation", o->config.min_separation,
+                 "candidate pairs are keyframes at least this many keyframes apart")
+      ->capture_default_str()
+      ->check(AtLeast(1, true));
   AddRecordingsOptions(app, o.get());
   return [=]() {
     const RecordingInput input = RecordingFromOptions(*seq, *odometry, "--odometry");

@@ -88,11 +88,11 @@ void WriteTumTrajectory(const std::string& path, const std::map<int, Transform>&
   std::ofstream out(path);
   if (!out) throw InputError(path + ": cannot be written");
   out << "# frame_id tx ty tz qx qy qz qw (camera -> world, TUM order)\n";
-  char buffer[256];
+  char buffer[320];
   for (const auto& [id, T] : poses) {
     Eigen::Quaterniond q(Eigen::Matrix3d(T.topLeftCorner<3, 3>()));
     q.normalize();
-    std::snprintf(buffer, sizeof(buffer), "%d %.6f %.6f %.6f %.8f %.8f %.8f %.8f\n", id, T(0, 3),
+    std::snprintf(buffer, sizeof(buffer), "%d %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", id, T(0, 3),
                   T(1, 3), T(2, 3), q.x(), q.y(), q.z(), q.w());
     out << buffer;
   }

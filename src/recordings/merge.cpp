@@ -522,28 +522,63 @@ void Runner::Optimize() {
       edges.push_back(e);
     }
   }
-  for (int i : accepted_) {
-    const LoopCandidateResult& c = result_.candidates[i];
-    PoseGraphEdge e;
-    e.from = c.u;
-    e.to = c.v;
-    e.T_from_to = c.T_u_v;
-    e.kind = PoseGraphEdge::Kind::kLoopClosure;
-    e.translation_sigma_m = config_.loop_sigma_m;
-    e.rotation_sigma_rad = config_.loop_sigma_deg * kRadiansPerDegree;
-    edges.push_back(e);
+  const std::size_t odometry_edges = edges.size();
+  PoseGraphResult solved;
+  // Solved, then loop closures the solution contradicts dropped and solved again: the consistency
+  // check compares loops two by two within tolerances that add up both loops' errors, so one loop
+  // off by 10 cm can agree with every other; against the graph all of them hold, it stands out.
+  for (int round = 0;; ++round) {
+    edges.resize(odometry_edges);
+    for (int i : accepted_) {
+      const LoopCandidateResult& c = result_.candidates[i];
+      PoseGraphEdge e;
+      e.from = c.u;
+      e.to = c.v;
+      e.T_from_to = c.T_u_v;
+      e.kind = PoseGraphEdge::Kind::kLoopClosure;
+      e.translation_sigma_m = config_.loop_sigma_m;
+      e.rotation_sigma_rad = config_.loop_sigma_deg * kRadiansPerDegree;
+      edges.push_back(e);
+    }
+    solved = OptimizePoseGraph(initial, edges, {nodes_of_[0].front()}, PoseGraphConfig());
+    std::vector<int> kept, dropped;
+    for (int i : accepted_) {
+      const LoopCandidateResult& c = result_.candidates[i];
+      const Transform predicted = Inverse(solved.T_world_node[c.u]) * solved.T_world_node[c.v];
+      const bool off = RotationErrorDeg(c.T_u_v, predicted) > config_.max_loop_residual_deg ||
+                       TranslationErrorM(c.T_u_v, predicted) > config_.max_loop_residual_m;
+      (off ? dropped : kept).push_back(i);
+    }
+    // Dropping stops where too few would be left to tell anything (the set stays as it is).
+    if (dropped.empty() || round == 2 ||
+        static_cast<int>(kept.size()) < config_.min_consistent_loops) {
+      break;
+    }
+    for (int i : dropped) result_.candidates[i].verdict = "residual";
+    Log("pose graph: " + std::to_string(dropped.size()) +
+        " loop closures off the solution by more than " +
+        std::to_string(config_.max_loop_residual_deg) + " deg or " +
+        std::to_string(config_.max_loop_residual_m) + " m dropped");
+    accepted_ = kept;
   }
-  PoseGraphConfig pc;
-  const PoseGraphResult solved = OptimizePoseGraph(initial, edges, {nodes_of_[0].front()}, pc);
   for (std::size_t n = 0; n < keyframes_.size(); ++n) {
     result_.keyframes[n].T_after = solved.T_world_node[n];
   }
   if (merge_) {
+    // Rotation: the chordal mean of B's keyframes' rotations into A's frame; translation: what
+    // moves the centroid of B's keyframes onto their optimised centroid (B's own origin may lie
+    // metres away, where a mean of per-keyframe translations would weigh each rotation by that).
     std::vector<Transform> implied;
+    Eigen::Vector3d before = Eigen::Vector3d::Zero(), after = Eigen::Vector3d::Zero();
     for (int n : nodes_of_[1]) {
       implied.push_back(solved.T_world_node[n] * Inverse(keyframes_[n].T_before));
+      before += keyframes_[n].T_before.topRightCorner<3, 1>();
+      after += solved.T_world_node[n].topRightCorner<3, 1>();
     }
+    const double count = static_cast<double>(nodes_of_[1].size());
     result_.T_A_B = MeanTransform(implied);
+    result_.T_A_B.topRightCorner<3, 1>() =
+        after / count - result_.T_A_B.topLeftCorner<3, 3>() * before / count;
   }
   Log("pose graph: " + std::to_string(keyframes_.size()) + " keyframes, " +
       std::to_string(edges.size()) + " edges, cost " + std::to_string(solved.initial_cost) +

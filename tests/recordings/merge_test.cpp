@@ -10,6 +10,7 @@
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
 #include "test_paths.hpp"
+#include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/recordings.hpp"
 
@@ -83,7 +84,8 @@ TEST_F(MergeTest, PlacesBInAsFrameWithinTwoDegreesAndFiveCentimetres) {
   for (const LoopCandidateResult& c : again.candidates) EXPECT_TRUE(c.resumed);
   EXPECT_TRUE(again.T_A_B.isApprox(r.T_A_B, 1e-9));
 
-  // The CLI gives the same transform (with the truth's poses written as TUM trajectories).
+  // The CLI gives the same transform (with the truth's poses written as TUM trajectories: their
+  // rounding and the pose graph's stopping tolerance move it by a fraction of a millimetre).
   WriteTumTrajectory((dir / "a.tum").string(), a_.T_frame_camera);
   WriteTumTrajectory((dir / "b.tum").string(), b_.T_frame_camera);
   const testing::CommandResult cli = testing::RunCli(
@@ -91,8 +93,8 @@ TEST_F(MergeTest, PlacesBInAsFrameWithinTwoDegreesAndFiveCentimetres) {
       "' --poses-a '" + (dir / "a.tum").string() + "' --poses-b '" + (dir / "b.tum").string() +
       "' --out '" + (dir / "cli").string() + "' --quiet --no-cloud");
   ASSERT_EQ(cli.exit_code, 0) << cli.output;
-  EXPECT_LE(RotationErrorDeg(ReadMatrix((dir / "cli/T_A_B.txt").string()), r.T_A_B), 1e-3);
-  EXPECT_LE(TranslationErrorM(ReadMatrix((dir / "cli/T_A_B.txt").string()), r.T_A_B), 1e-5);
+  EXPECT_LE(RotationErrorDeg(ReadMatrix((dir / "cli/T_A_B.txt").string()), r.T_A_B), 0.01);
+  EXPECT_LE(TranslationErrorM(ReadMatrix((dir / "cli/T_A_B.txt").string()), r.T_A_B), 0.001);
   fs::remove_all(dir);
 }
 

@@ -22,7 +22,7 @@ TEST(SessionsProtocolTest, UnalignmentIsRigidSeededAndWithinThreeMetres) {
     const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
     EXPECT_NEAR((R.transpose() * R - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-12);
     EXPECT_NEAR(R.determinant(), 1.0, 1e-12);
-    EXPECT_LE(T.topRightCorner<3, 1>().norm(), 3.0);
+    EXPECT_LE((T.topRightCorner<3, 1>().norm()), 3.0);
     EXPECT_EQ(T, SeededUnalignment(seed));
   }
   EXPECT_NE(SeededUnalignment(0), SeededUnalignment(1));
@@ -43,8 +43,9 @@ TEST(SessionsProtocolTest, DriftKeepsTheFirstPoseAndErrsByTheProtocolsAmountPerS
     const Transform drifted_motion = d->second.inverse() * d_next->second;
     EXPECT_NEAR(RotationErrorDeg(drifted_motion, true_motion), 0.1, 1e-6);
     const Transform error = true_motion.inverse() * drifted_motion;
-    EXPECT_NEAR(error.topRightCorner<3, 1>().norm(),
-                0.01 * true_motion.topRightCorner<3, 1>().norm(), 1e-9);
+    const double error_m = error.topRightCorner<3, 1>().norm();
+    const double step_m = true_motion.topRightCorner<3, 1>().norm();
+    EXPECT_NEAR(error_m, 0.01 * step_m, 1e-9);
   }
   EXPECT_GT(AbsoluteTrajectoryError(drifted, truth), 0.0);
 }
