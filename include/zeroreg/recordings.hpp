@@ -78,8 +78,12 @@ struct RecordingsConfig {
   // drops right ones (measured: at 3.5 deg / 7.5 cm it dropped one 5 cm off the truth).
   double max_loop_residual_deg = 5.0;
   double max_loop_residual_m = 0.10;
-  double odometry_sigma_fraction = 0.02;  // of the distance between consecutive keyframes
-  double odometry_sigma_deg_per_m = 0.5;
+  // Odometry between consecutive keyframes n frames apart: rotation sigma
+  // odometry_sigma_deg_per_frame * sqrt(n) (a random walk; the sessions protocol drifts 0.1 deg a
+  // frame), translation sigma 2 mm + odometry_sigma_fraction of the distance + the rotation sigma
+  // (radians) times the distance.
+  double odometry_sigma_fraction = 0.01;
+  double odometry_sigma_deg_per_frame = 0.1;
   // Prepared keyframes kept in memory; past it the least recently used is dropped and prepared
   // again from its files when needed.
   std::size_t prepared_budget_bytes = std::size_t{384} << 20;

@@ -81,6 +81,7 @@ struct Keyframe {
   int frame = 0;
   Transform T_before = Transform::Identity();
   double path_m = 0.0;  // along the recording's keyframes from its first
+  int position = 0;     // frames of the recording before it
   Eigen::MatrixXf descriptors;
   ColoredCloud cloud;  // camera frame, thinned
 };
@@ -260,6 +261,7 @@ void Runner::SelectKeyframes(int recording) {
     Keyframe k;
     k.recording = recording;
     k.frame = id;
+    k.position = static_cast<int>(n);
     if (pose) k.T_before = *pose;
     if (previous >= 0 && pose) {
       const Keyframe& p = keyframes_[previous];
@@ -458,7 +460,9 @@ void Runner::Decide() {
   const std::string counts = std::to_string(result_.candidates.size()) + " candidate pairs, " +
                              std::to_string(loops.size()) + " valid, the largest consistent set " +
                              std::to_string(set.accepted.size());
-  if (set.ambiguous) {
+  // Within one sequence a second set is no second placement: loop closures at two places of a
+  // drifting trajectory may each agree only with their neighbours. Between two recordings it is.
+  if (set.ambiguous && merge_) {
     for (int i : set.accepted) result_.candidates[candidate_of_loop[i]].verdict = "ambiguous";
     result_.ambiguous = true;
     result_.reason = "ambiguous: two placements are each supported by several loop closures (" +
@@ -515,10 +519,12 @@ void Runner::Optimize() {
       e.from = nodes[i - 1];
       e.to = nodes[i];
       e.T_from_to = Inverse(a.T_before) * b.T_before;
-      const double distance = std::max(0.05, e.T_from_to.topRightCorner<3, 1>().norm());
-      e.translation_sigma_m = std::max(0.002, config_.odometry_sigma_fraction * distance);
-      e.rotation_sigma_rad =
-          std::max(0.1, config_.odometry_sigma_deg_per_m * distance) * kRadiansPerDegree;
+      const double distance = e.T_from_to.topRightCorner<3, 1>().norm();
+      const int frames = std::max(1, b.position - a.position);
+      e.rotation_sigma_rad = config_.odometry_sigma_deg_per_frame *
+                             std::sqrt(static_cast<double>(frames)) * kRadiansPerDegree;
+      e.translation_sigma_m =
+          0.002 + config_.odometry_sigma_fraction * distance + e.rotation_sigma_rad * distance;
       edges.push_back(e);
     }
   }
@@ -696,10 +702,11 @@ void Runner::WriteOutputs() {
 RecordingsResult Runner::Run() {
   if (config_.candidates_per_keyframe < 1 || config_.min_separation < 1 ||
       config_.min_consistent_loops < 1 || !(config_.cloud_voxel_m > 0) ||
-      !(config_.loop_sigma_deg > 0) || !(config_.loop_sigma_m > 0)) {
+      !(config_.loop_sigma_deg > 0) || !(config_.loop_sigma_m > 0) ||
+      !(config_.odometry_sigma_deg_per_frame > 0) || !(config_.odometry_sigma_fraction >= 0)) {
     throw InputError(
         "recordings config: candidates_per_keyframe, min_separation, min_consistent_loops, "
-        "cloud_voxel_m and the loop sigmas must be positive");
+        "cloud_voxel_m and the loop and odometry sigmas must be positive");
   }
   PrepareOutDir();
   has_poses_.assign(inputs_.size(), false);

@@ -156,5 +156,31 @@ TEST(MergeCliTest, BadRecordingsAreNamedWithExitTwo) {
   fs::remove_all(dir);
 }
 
+// One sequence over the revisit (460-640), with odometry drifted five times the protocol's amount:
+// the loop closures found are right, and the optimised trajectory is nearer the truth.
+TEST(CloseLoopsTest, ClosesTheRevisitOfADriftedSequence) {
+  RecordingInput sequence = ParseRecordingSpec(testing::RedkitchenDir() + "@460-640");
+  const std::map<int, Transform> truth = GroundTruthPoses(sequence);
+  sequence.T_frame_camera = DriftedOdometry(truth, 7, 0.05, 0.5);
+  RecordingsConfig config;
+  config.progress = false;
+  config.min_separation = 3;
+  const RecordingsResult r = CloseLoops(sequence, config);
+  ASSERT_TRUE(r.found) << r.reason;
+  int accepted = 0;
+  for (const LoopCandidateResult& c : r.candidates) {
+    if (c.verdict != "accepted") continue;
+    ++accepted;
+    const Transform T_true =
+        truth.at(r.keyframes[c.u].frame).inverse() * truth.at(r.keyframes[c.v].frame);
+    EXPECT_LE(RotationErrorDeg(c.T_u_v, T_true), 5.0);
+    EXPECT_LE(TranslationErrorM(c.T_u_v, T_true), 0.10);
+  }
+  EXPECT_GE(accepted, 2);
+  const double before = AbsoluteTrajectoryError(sequence.T_frame_camera, truth);
+  const double after = AbsoluteTrajectoryError(r.trajectories[0], truth);
+  EXPECT_LT(after, 0.5 * before) << "before " << before << " m, after " << after << " m";
+}
+
 }  // namespace
 }  // namespace zeroreg
