@@ -92,8 +92,8 @@ void WriteTumTrajectory(const std::string& path, const std::map<int, Transform>&
   for (const auto& [id, T] : poses) {
     Eigen::Quaterniond q(Eigen::Matrix3d(T.topLeftCorner<3, 3>()));
     q.normalize();
-    std::snprintf(buffer, sizeof(buffer), "%d %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", id, T(0, 3),
-                  T(1, 3), T(2, 3), q.x(), q.y(), q.z(), q.w());
+    std::snprintf(buffer, sizeof(buffer), "%d %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", id,
+                  T(0, 3), T(1, 3), T(2, 3), q.x(), q.y(), q.z(), q.w());
     out << buffer;
   }
   if (!out) throw InputError(path + ": write failed");
