@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -393,7 +394,8 @@ void Runner::Verify() {
   std::mutex mutex;
   std::atomic<std::size_t> next{0};
   std::size_t done = 0;
-  const auto worker = [&]() {
+  std::exception_ptr failure;  // the first exception of any worker, rethrown after the join
+  const auto work = [&]() {
     for (;;) {
       const std::size_t n = next.fetch_add(1);
       if (n >= todo.size()) return;
@@ -423,11 +425,21 @@ void Runner::Verify() {
           std::to_string(v.frame) + ": " + (c.valid ? "valid (" + c.path + ")" : "not valid"));
     }
   };
+  const auto worker = [&]() {
+    try {
+      work();
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(mutex);
+      if (!failure) failure = std::current_exception();
+      next = todo.size();  // the other workers stop after their current pair
+    }
+  };
   const int jobs = std::max(1, config_.pipeline.threads);
   std::vector<std::thread> threads;
   for (int j = 1; j < jobs; ++j) threads.emplace_back(worker);
   worker();
   for (std::thread& t : threads) t.join();
+  if (failure) std::rethrow_exception(failure);
 }
 
 void Runner::Decide() {
