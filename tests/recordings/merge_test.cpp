@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
@@ -153,6 +154,30 @@ TEST(MergeCliTest, BadRecordingsAreNamedWithExitTwo) {
                       dir.string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("missing.tum"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+// `eval sessions` on a split file of the short revisit: the protocol's B unaligned by seed 0, the
+// errors against the truth written per run and as a table.
+TEST(EvalSessionsCliTest, MeasuresAShortSplit) {
+  const fs::path dir = testing::FreshTestDir("zeroreg_eval_sessions_");
+  std::ofstream((dir / "sessions.tsv").string())
+      << "scene\tA\tB\n7scenes-redkitchen\t460-499\t600-640\n";
+  const testing::CommandResult r = testing::RunCli(
+      "eval sessions --sessions '" + (dir / "sessions.tsv").string() + "' --data '" +
+      testing::SharedDir() + "/data' --modes unaligned --seeds 0-0 --out '" +
+      (dir / "out").string() + "' --quiet --no-cloud");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json row = nlohmann::json::parse(
+      std::ifstream((dir / "out/7scenes-redkitchen/unaligned-seed0/eval.json").string()));
+  EXPECT_TRUE(row.at("found").get<bool>());
+  EXPECT_LE(row.at("rot_err_deg").get<double>(), 2.0);
+  EXPECT_LE(row.at("ate_b_after_cm").get<double>(), 5.0);
+  EXPECT_EQ(row.at("accepted_wrong").get<int>(), 0);
+  EXPECT_GT(row.at("loop_recall").get<double>(), 0.0);
+  EXPECT_TRUE(row.at("stages").contains("verification"));
+  EXPECT_NE(r.output.find("| 7scenes-redkitchen | unaligned | 0 | yes |"), std::string::npos)
+      << r.output;
   fs::remove_all(dir);
 }
 
