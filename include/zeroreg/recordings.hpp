@@ -64,10 +64,13 @@ struct RecordingsConfig {
   double consistency_translation_m = 0.08;
   double drift_translation_fraction = 0.03;
   double drift_rotation_deg_per_m = 1.0;
-  // A second set of consistent loop closures, disjoint from the largest, with at least 2 and this
-  // fraction of its size: two placements, nothing accepted. The cabinet split's right placement
-  // has 3 loop closures against the half turn's 9.
-  double ambiguity_ratio = 0.25;
+  // Merge: loop closures outside the largest consistent set whose T_A_B is this far from its
+  // (rotation or translation) are another placement of B; two of them that agree with each other
+  // make the merge refuse ("ambiguous"). The cabinet split's half turn is 180 deg away; the right
+  // loop closures the largest set leaves out on the redkitchen split are 1.7-3.0 deg and 5-15 cm
+  // off the truth.
+  double other_placement_deg = 10.0;
+  double other_placement_m = 0.5;
   // Pose graph: the measurement errors of a loop closure and of the odometry.
   double loop_sigma_deg = 1.0;
   double loop_sigma_m = 0.02;

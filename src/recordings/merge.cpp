@@ -393,7 +393,7 @@ void Runner::Verify() {
       const RegistrationResult r = pipeline_->Register(Prepared(v), Prepared(u));
       c.valid = r.valid;
       c.reason = r.reason;
-      c.path = r.path;
+      c.path = PathName(r.path);
       c.T_u_v = r.T_target_source;
       c.inliers = r.num_inliers;
       c.overlap = r.verification.overlap;
@@ -454,21 +454,66 @@ void Runner::Decide() {
   lc.translation_tolerance_m = config_.consistency_translation_m;
   lc.drift_translation_fraction = config_.drift_translation_fraction;
   lc.drift_rotation_deg_per_m = config_.drift_rotation_deg_per_m;
-  lc.ambiguity_ratio = config_.ambiguity_ratio;
-  const ConsistentLoopSet set = SelectConsistentLoops(loops, odometry, lc);
+  ConsistentLoopSet set = SelectConsistentLoops(loops, odometry, lc);
   for (int i : set.rival) result_.candidates[candidate_of_loop[i]].verdict = "rival";
+  const auto implied_by = [&](int loop) -> Transform {
+    const LoopCandidateResult& c = result_.candidates[candidate_of_loop[loop]];
+    const Transform T = keyframes_[c.u].T_before * c.T_u_v * Inverse(keyframes_[c.v].T_before);
+    return T;
+  };
+  // Another placement of B: loop closures outside the largest set whose T_A_B lies far from its
+  // own (a half turn of a symmetric place, not the noise of the same placement), of which at
+  // least two agree with each other. Between two recordings that is two answers, and no test of
+  // these scans tells them apart (the half turn of the cabinet's box agrees with more of the
+  // depth than the truth does), so the merge refuses. Within one sequence a second set is no
+  // second placement: loop closures at two places of a drifting trajectory may each agree only
+  // with their neighbours.
+  std::vector<int> far_rival;
+  if (merge_ && set.accepted.size() >= 2) {
+    std::vector<Transform> best_implied;
+    for (int i : set.accepted) best_implied.push_back(implied_by(i));
+    Transform best = best_implied.front();
+    double best_cost = 1e300;
+    for (const Transform& T : best_implied) {
+      double cost = 0.0;
+      for (const Transform& other : best_implied) {
+        cost += TranslationErrorM(T, other) + 0.01 * RotationErrorDeg(T, other);
+      }
+      if (cost < best_cost) {
+        best_cost = cost;
+        best = T;
+      }
+    }
+    std::vector<LoopClosure> far;
+    std::vector<int> far_index;
+    for (std::size_t i = 0; i < loops.size(); ++i) {
+      if (std::binary_search(set.accepted.begin(), set.accepted.end(), static_cast<int>(i))) {
+        continue;
+      }
+      const Transform T = implied_by(static_cast<int>(i));
+      if (RotationErrorDeg(T, best) > config_.other_placement_deg ||
+          TranslationErrorM(T, best) > config_.other_placement_m) {
+        far.push_back(loops[i]);
+        far_index.push_back(static_cast<int>(i));
+      }
+    }
+    if (far.size() >= 2) {
+      for (int i : SelectConsistentLoops(far, odometry, lc).accepted) {
+        far_rival.push_back(far_index[i]);
+      }
+    }
+  }
   const std::string counts = std::to_string(result_.candidates.size()) + " candidate pairs, " +
                              std::to_string(loops.size()) + " valid, the largest consistent set " +
                              std::to_string(set.accepted.size());
-  // Within one sequence a second set is no second placement: loop closures at two places of a
-  // drifting trajectory may each agree only with their neighbours. Between two recordings it is.
-  if (set.ambiguous && merge_) {
+  if (far_rival.size() >= 2) {
     for (int i : set.accepted) result_.candidates[candidate_of_loop[i]].verdict = "ambiguous";
+    for (int i : far_rival) result_.candidates[candidate_of_loop[i]].verdict = "rival";
     result_.ambiguous = true;
-    result_.reason = "ambiguous: two placements are each supported by several loop closures (" +
-                     std::to_string(set.accepted.size()) + " and " +
-                     std::to_string(set.rival.size()) + " of " + counts +
-                     "); nothing accepted (a symmetric place seen from opposite sides?)";
+    result_.reason =
+        "ambiguous: two placements of B are each supported by several loop closures (" +
+        std::to_string(set.accepted.size()) + " and " + std::to_string(far_rival.size()) + " of " +
+        counts + "); nothing accepted (a symmetric place seen from opposite sides?)";
     return;
   }
   if (static_cast<int>(set.accepted.size()) < config_.min_consistent_loops) {
