@@ -523,7 +523,11 @@ Runner AddEvalCommand(CLI::App& app) {
   merge->add_option("dirs", g->dirs, "results folders of the shards")->required()->expected(1, -1);
   merge->add_option("--out,-o", g->out, "merged results folder")->required();
 
+  auto sessions_run = std::make_shared<Runner>();
+  CLI::App* sessions = AddEvalSessionsCommand(app, sessions_run.get());
+
   return [=]() {
+    if (sessions->parsed()) return (*sessions_run)();
     if (match->parsed()) return RunMatch(*m);
     if (pairs->parsed()) return RunFramePairs(*f);
     return RunMerge(*g);

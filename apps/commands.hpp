@@ -20,5 +20,9 @@ Runner AddInfoCommand(CLI::App& app);
 Runner AddEvalCommand(CLI::App& app);
 Runner AddReportCommand(CLI::App& app);
 Runner AddBenchModelsCommand(CLI::App& app);
+Runner AddMergeCommand(CLI::App& app);  // cmd_merge.cpp
+Runner AddLoopsCommand(CLI::App& app);
+// `eval sessions` (cmd_eval_sessions.cpp): adds the subcommand to `eval`, sets its runner.
+CLI::App* AddEvalSessionsCommand(CLI::App& eval, Runner* run);
 
 }  // namespace zeroreg::cli

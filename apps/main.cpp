@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
   add("info", AddInfoCommand, "show the effective config, assets and a scan's contents");
   add("eval", AddEvalCommand, "evaluate on 3DMatch/3DLoMatch or frame pairs, with baselines");
   add("report", AddReportCommand, "make a self-contained HTML page of a register or eval folder");
+  add("merge", AddMergeCommand, "place recording B in recording A's frame (T_A_B, one map)");
+  add("loops", AddLoopsCommand, "loop closures of one sequence, then its optimised trajectory");
   add("bench-models", AddBenchModelsCommand,
       "time every ONNX model per image on each inference engine");
   try {

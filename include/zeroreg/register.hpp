@@ -51,6 +51,7 @@ class PreparedScan {
 
  private:
   friend class Pipeline;
+  friend const Data* PreparedScanData(const PreparedScan& prepared);  // src/pipeline/prepared.hpp
   std::shared_ptr<const Data> data_;
 };
 

@@ -31,6 +31,7 @@
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
+#include "zeroreg/recordings.hpp"
 #include "zeroreg/register.hpp"
 #include "zeroreg/version.hpp"
 
@@ -1045,6 +1046,73 @@ PYBIND11_MODULE(_zeroreg, m) {
       py::arg("config") = py::none(),
       "Coarse-to-fine point-to-plane ICP (config 'refine') from T_target_source. Returns a dict "
       "(T_target_source, fitness, rmse_m, iterations).");
+
+  // Whole recordings (docs/RECORDINGS.md): poses are "auto", "gt", "none", a TUM file or a dict
+  // {frame id: 4x4}; options are RecordingsConfig's fields (ApplyRecordingsOptions).
+  const auto recording = [](const py::object& spec, const py::object& poses,
+                            const std::string& where) {
+    RecordingInput r = ParseRecordingSpec(PathFromPython(spec, where));
+    if (py::isinstance<py::dict>(poses)) {
+      for (const auto& item : py::reinterpret_borrow<py::dict>(poses)) {
+        if (!py::isinstance<py::int_>(item.first)) {
+          throw MakeInputError(where + "_poses", "expected int frame ids as keys");
+        }
+        const int id = item.first.cast<int>();
+        r.T_frame_camera[id] =
+            RequireRigid(item.second, where + "_poses[" + std::to_string(id) + "]");
+      }
+      return r;
+    }
+    const std::string text = PathFromPython(poses, where + "_poses");
+    if (text == "auto" || text == "gt") {
+      r.T_frame_camera = GroundTruthPoses(r);
+      if (text == "gt" && r.T_frame_camera.empty()) {
+        throw MakeInputError(where + "_poses", "gt: " + r.root + " has no poses");
+      }
+    } else if (text != "none") {
+      r.T_frame_camera = ReadTumTrajectory(text);
+    }
+    return r;
+  };
+  const auto recordings_config = [](const py::object& out, const py::object& config,
+                                    const py::object& seed, const py::object& options) {
+    RecordingsConfig c;
+    c.pipeline = ConfigFromPython(config, seed);
+    if (!out.is_none()) c.out_dir = PathFromPython(out, "out");
+    ApplyRecordingsOptions(ToJson(options, "options"), "options", &c);
+    return c;
+  };
+  m.def(
+      "merge",
+      [=](const py::object& a, const py::object& b, const py::object& poses_a,
+          const py::object& poses_b, const py::object& out, const py::object& config,
+          const py::object& seed, const py::object& options) {
+        const RecordingInput ra = recording(a, poses_a, "a"), rb = recording(b, poses_b, "b");
+        const RecordingsConfig c = recordings_config(out, config, seed, options);
+        RecordingsResult r;
+        {
+          py::gil_scoped_release release;
+          r = MergeRecordings(ra, rb, c);
+        }
+        return FromJson(RecordingsResultToJson(r));
+      },
+      py::arg("a"), py::arg("b"), py::arg("poses_a"), py::arg("poses_b"), py::arg("out"),
+      py::arg("config"), py::arg("seed"), py::arg("options"));
+  m.def(
+      "close_loops",
+      [=](const py::object& sequence, const py::object& odometry, const py::object& out,
+          const py::object& config, const py::object& seed, const py::object& options) {
+        const RecordingInput r = recording(sequence, odometry, "sequence");
+        const RecordingsConfig c = recordings_config(out, config, seed, options);
+        RecordingsResult result;
+        {
+          py::gil_scoped_release release;
+          result = CloseLoops(r, c);
+        }
+        return FromJson(RecordingsResultToJson(result));
+      },
+      py::arg("sequence"), py::arg("odometry"), py::arg("out"), py::arg("config"), py::arg("seed"),
+      py::arg("options"));
 
   m.def("default_config", []() { return FromJson(ConfigToJson(PipelineConfig())); });
   m.def("open3d_module_path", &open3d_module::LoadedModulePath,

@@ -43,9 +43,11 @@ __all__ = [
     "Result",
     "Scan",
     "View",
+    "close_loops",
     "default_config",
     "depth_noise_at_1m_m",
     "load_scan",
+    "merge",
     "open3d_module_path",
     "read_color",
     "read_depth",
@@ -255,4 +257,57 @@ def verify(
     """
     return _verify(
         _native(source, "source"), _native(target, "target"), np.asarray(T_target_source), config
+    )
+
+
+def _recordings_result(result: dict) -> dict:
+    """Transforms of a recordings result as 4x4 float64 arrays; trajectories keyed by int id."""
+    result["T_A_B"] = np.asarray(result["T_A_B"], dtype=np.float64)
+    for k in result["keyframes"]:
+        k["T_before"] = np.asarray(k["T_before"], dtype=np.float64)
+        k["T_after"] = np.asarray(k["T_after"], dtype=np.float64)
+    for c in result["candidates"]:
+        c["T_u_v"] = np.asarray(c["T_u_v"], dtype=np.float64)
+    result["trajectories"] = [
+        {int(i): np.asarray(T, dtype=np.float64) for i, T in t.items()}
+        for t in result["trajectories"]
+    ]
+    return result
+
+
+def merge(
+    a: Union[str, os.PathLike],
+    b: Union[str, os.PathLike],
+    out: Union[None, str, os.PathLike] = None,
+    poses_a: Any = "auto",
+    poses_b: Any = "auto",
+    config: Union[None, dict, str] = None,
+    seed: Optional[int] = None,
+    **options: Any,
+) -> dict:
+    """Recording B placed in recording A's frame, as `zeroreg merge A B --out OUT` (same result).
+
+    a, b: "DIR" or "DIR@FIRST-LAST" (frame ids). poses_*: "auto" (the dataset's own poses when it
+    has them), "gt", "none", a TUM trajectory file (first column the frame id), or a dict
+    {frame id: 4x4 camera-to-recording pose}. options: RecordingsConfig fields
+    (docs/RECORDINGS.md), e.g. candidates_per_keyframe=5, progress=False. Returns a dict: found,
+    reason, T_A_B (4x4, maps B's frame into A's), keyframes, candidates (with their verdicts),
+    trajectories ([A, B] in A's frame, {frame id: 4x4}), stages (seconds, peak RSS)."""
+    return _recordings_result(
+        _zeroreg.merge(a, b, poses_a, poses_b, out, config, seed, dict(options))
+    )
+
+
+def close_loops(
+    sequence: Union[str, os.PathLike],
+    odometry: Any = "auto",
+    out: Union[None, str, os.PathLike] = None,
+    config: Union[None, dict, str] = None,
+    seed: Optional[int] = None,
+    **options: Any,
+) -> dict:
+    """Loop closures of one sequence and its optimised trajectory, as `zeroreg loops SEQ
+    --odometry ODOMETRY --out OUT`; arguments and result as merge() (trajectories: [sequence])."""
+    return _recordings_result(
+        _zeroreg.close_loops(sequence, odometry, out, config, seed, dict(options))
     )

@@ -35,6 +35,10 @@ struct PreparedScan::Data {
 
 using Prepared = PreparedScan::Data;
 
+// What a prepared scan holds, for the library's own stages above the pair (the recordings' place
+// recognition reads the features Prepare extracted). nullptr for an empty one.
+const PreparedScan::Data* PreparedScanData(const PreparedScan& prepared);
+
 // Heap bytes of one view's features: keypoints with their scores, descriptors, 3D points.
 std::size_t LiftedFeaturesBytes(const LiftedFeatures& f);
 

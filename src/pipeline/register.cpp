@@ -39,6 +39,10 @@ PreparedScan::~PreparedScan() = default;
 PreparedScan::PreparedScan(const PreparedScan&) = default;
 PreparedScan& PreparedScan::operator=(const PreparedScan&) = default;
 bool PreparedScan::empty() const { return data_ == nullptr; }
+
+const PreparedScan::Data* PreparedScanData(const PreparedScan& prepared) {
+  return prepared.data_.get();
+}
 const Scan& PreparedScan::scan() const {
   if (!data_) throw std::logic_error("PreparedScan::scan() called on an empty prepared scan");
   return data_->scan;
