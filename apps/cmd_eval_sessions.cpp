@@ -14,6 +14,7 @@
 #include "eval/sessions_protocol.hpp"
 #include "recording_options.hpp"
 #include "recordings/keyframes.hpp"
+#include "recordings/open3d_baseline.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
 #include "zeroreg/json.hpp"
@@ -28,6 +29,9 @@ struct SessionsOptions {
   std::string sessions = "../shared/sessions/sessions.tsv", data = "../shared/data";
   std::vector<std::string> scenes, modes = {"unaligned", "drift"};
   std::string seeds = "0-2";
+  // zeroreg: MergeRecordings; open3d-multiway: Open3D's multiway registration recipe on the same
+  // keyframes (src/recordings/open3d_baseline.hpp), the baseline.
+  std::string method = "zeroreg";
   RecordingsOptions recordings;
 };
 
@@ -98,13 +102,11 @@ json RunOne(const SessionsOptions& o, const Split& split, const std::string& mod
   config.out_dir = dir;
   // Pair registrations do not depend on the poses: shared by every seed and mode of the split.
   config.pair_cache_file = fs::path(dir).parent_path().string() + "/pairs-cache.jsonl";
-  const RecordingsResult r = MergeRecordings(a, b, config);
+  const RecordingsResult r = o.method == "open3d-multiway" ? MergeWithOpen3dMultiway(a, b, config)
+                                                           : MergeRecordings(a, b, config);
 
-  json row = {{"scene", split.scene},
-              {"mode", mode},
-              {"seed", seed},
-              {"found", r.found},
-              {"reason", r.reason}};
+  json row = {{"scene", split.scene}, {"method", o.method}, {"mode", mode},
+              {"seed", seed},         {"found", r.found},   {"reason", r.reason}};
   const Transform T_A_B_true = Inverse(T_Bframe_world);
   row["ate_a_before_cm"] = 100.0 * AbsoluteTrajectoryError(given_a, truth_a);
   row["ate_b_before_cm"] = 100.0 * AbsoluteTrajectoryError(given_b_world, truth_b);
@@ -278,6 +280,11 @@ CLI::App* AddEvalSessionsCommand(CLI::App& eval, Runner* run) {
       ->delimiter(',')
       ->capture_default_str();
   app->add_option("--seeds", o->seeds, "seeds FIRST-LAST")->capture_default_str();
+  app->add_option("--method", o->method,
+                  "zeroreg, or open3d-multiway (Open3D's multiway registration recipe on the same "
+                  "keyframes: FPFH + RANSAC + ICP between every keyframe pair, its pose graph)")
+      ->check(CLI::IsMember({"zeroreg", "open3d-multiway"}))
+      ->capture_default_str();
   AddRecordingsOptions(*app, &o->recordings);
   *run = [o]() { return RunSessions(*o); };
   return app;

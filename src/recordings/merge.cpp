@@ -22,6 +22,7 @@
 #include "recordings/place_recognition.hpp"
 #include "recordings/pose_graph.hpp"
 #include "recordings/report.hpp"
+#include "recordings/stage_clock.hpp"
 #include "viz/ply.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -44,38 +45,6 @@ Transform Inverse(const Transform& T) {
   inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
   return inverse;
 }
-
-// Peak resident memory of the process (VmHWM, MiB), and its reset (Linux: clear_refs 5), so each
-// stage reports its own peak.
-void ResetPeakRss() {
-  std::ofstream clear("/proc/self/clear_refs");
-  if (clear) clear << "5";
-}
-double PeakRssMib() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
-  }
-  return 0.0;
-}
-
-class StageClock {
- public:
-  StageClock(std::string name, std::vector<StageReport>* out) : name_(std::move(name)), out_(out) {
-    ResetPeakRss();
-  }
-  ~StageClock() {
-    const double s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    out_->push_back({name_, s, PeakRssMib()});
-  }
-
- private:
-  std::string name_;
-  std::vector<StageReport>* out_;
-  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
 
 struct Keyframe {
   int recording = 0;
@@ -628,34 +597,10 @@ void Runner::Optimize() {
       " -> " + std::to_string(solved.final_cost));
 }
 
-// Every frame with a pose, moved as its nearest keyframe at or before it (the first keyframe for
-// frames before it) was moved by the optimisation.
-std::map<int, Transform> Placed(const std::map<int, Transform>& poses,
-                                const std::vector<RecordingKeyframe>& keyframes, int recording) {
-  std::map<int, Transform> correction;  // frame -> T_after * T_before^-1
-  for (const RecordingKeyframe& k : keyframes) {
-    if (k.recording == recording) correction[k.frame] = k.T_after * Inverse(k.T_before);
-  }
-  std::map<int, Transform> out;
-  if (correction.empty()) return out;
-  if (poses.empty()) {
-    for (const RecordingKeyframe& k : keyframes) {
-      if (k.recording == recording) out[k.frame] = k.T_after;
-    }
-    return out;
-  }
-  for (const auto& [id, T] : poses) {
-    auto it = correction.upper_bound(id);
-    if (it != correction.begin()) --it;
-    out[id] = it->second * T;
-  }
-  return out;
-}
-
 void Runner::WriteOutputs() {
   for (std::size_t r = 0; r < inputs_.size(); ++r) {
     result_.trajectories.push_back(
-        Placed(inputs_[r].T_frame_camera, result_.keyframes, static_cast<int>(r)));
+        PlacedTrajectory(inputs_[r].T_frame_camera, result_.keyframes, static_cast<int>(r)));
   }
   if (config_.out_dir.empty()) return;
   const std::string& dir = config_.out_dir;
