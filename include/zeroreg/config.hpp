@@ -680,6 +680,29 @@ struct HypothesesConfig {
   bool image_rival_single = true;
 };
 
+// The arbiter's ambiguity test (docs/ARCHITECTURE.md): a valid result whose evidence is not
+// decisive is judged against second poses away from it; if one fits about as well, the result is
+// not valid but ambiguous, with both poses in RegistrationResult::alternatives.
+struct AmbiguityConfig {
+  bool enabled = true;
+  // Decisive: at least this many image correspondences (inliers under the reported pose, of a
+  // source that matched images) support it; then the second poses are not sought. Geometry (FPFH)
+  // and object-centroid correspondences are never decisive: a symmetric shape matches itself.
+  // Measured: every half turn of the TUM cabinet reported valid (scripts/bench-negatives.py) had at
+  // most 38 image inliers.
+  int decisive_inliers = 50;
+  // The second poses: the reported pose turned by 90, 180 and 270 deg about the target's vertical
+  // (its first view's image up) through the centroid of the source surface it places, then ICP.
+  // The check judges them with this free-space tolerance instead of verify.max_violation: at the
+  // truth of the TUM cabinet's half-turn pairs the check measures 10-54 % (its depth and poses
+  // disagree there), so the strict check cannot see that a second pose fits.
+  double max_violation = 0.25;
+  // A second pose rivals the reported one when it passes that check, its images agree where its
+  // depth agrees (hypotheses.min_brightness_rank_correlation) and its score is at least this
+  // fraction of the reported one's.
+  double min_score_fraction = 0.3;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
@@ -696,6 +719,7 @@ struct PipelineConfig {
   ObjectMatchConfig object_match;
   MethodConfig method;
   HypothesesConfig hypotheses;
+  AmbiguityConfig ambiguity;
   std::uint64_t seed = 0;  // every random step derives its seed from this
   std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
   // Threads one registration may use: Register(Scan, Scan) prepares the two scans concurrently,
