@@ -684,7 +684,11 @@ struct HypothesesConfig {
 // decisive is judged against second poses away from it; if one fits about as well, the result is
 // not valid but ambiguous, with both poses in RegistrationResult::alternatives.
 struct AmbiguityConfig {
-  bool enabled = true;
+  // Off by default: measured on samples of the frame lists, the search ran on 1-6 of every 8-15
+  // pairs and took 28-68 % of their time, and it made one right result of 8 (cabinet-gap1) and
+  // of 15 (hololens-gap5) ambiguous; on the 300 low-overlap pairs of scripts/bench-negatives.py it
+  // refuses most TUM-cabinet half turns (docs/ARCHITECTURE.md "Ambiguity").
+  bool enabled = false;
   // Decisive: at least this many image correspondences (inliers under the reported pose, of a
   // source that matched images) support it; then the second poses are not sought. Geometry (FPFH)
   // and object-centroid correspondences are never decisive: a symmetric shape matches itself.

@@ -648,7 +648,7 @@ py::dict Counts(const RegistrationResult& r) {
 
 std::string Repr(const RegistrationResult& r) {
   std::ostringstream s;
-  s << "<zeroreg.Result " << (r.valid ? "valid" : "FAILED") << " path=" << r.path
+  s << "<zeroreg.Result " << (r.valid ? "valid" : "FAILED") << " path=" << PathName(r.path)
     << " inliers=" << r.num_inliers << "/" << r.num_correspondences << " reason='" << r.reason
     << "'>";
   return s.str();
@@ -737,8 +737,10 @@ void BindResult(py::module_& m) {
           "The poses that fit an ambiguous pair, the reported one first (or that a motion prior "
           "ruled out): a list of dicts with name, T_target_source (4x4 array), score, "
           "overlap, violation, brightness_rank_correlation, inliers, apart_m, outside_prior.")
-      .def_readonly("path", &RegistrationResult::path,
-                    "Which correspondence source produced the transform, e.g. 'image'.")
+      .def_property_readonly(
+          "path", [](const RegistrationResult& r) { return PathName(r.path); },
+          "Which source produced the transform (str), e.g. 'object', 'image-fallback', "
+          "'geometry clique', 'prior icp'; the JSON result's 'path'.")
       .def_property_readonly("counts", &Counts,
                              "keypoints_source/target, correspondences, inliers, "
                              "ransac_iterations.")

@@ -319,11 +319,12 @@ def test_refusal_is_data_none_when_valid(result_20_0_from_paths):
                          "threshold": 100000.0}
 
 
-def test_ambiguous_result_lists_both_poses(pipeline):
+def test_ambiguous_result_lists_both_poses():
     # A TUM cabinet pair seen from opposite sides (co-visibility 0.26 under the ground truth): a
     # turned pose fits as well as the reported one, so the result is not valid but ambiguous,
     # both poses listed, the reported one first.
     cabinet = os.path.join(REPO, "..", "shared", "data", "tum-fr3-cabinet")
+    pipeline = zeroreg.Pipeline({"ambiguity": {"enabled": True}})  # off by default
     r = pipeline.register(f"{cabinet}@31", f"{cabinet}@9")
     assert not r.valid and r.ambiguous, r.reason
     assert r.refusal["test"] == "ambiguous"

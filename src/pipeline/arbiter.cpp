@@ -57,15 +57,26 @@ namespace {
 // Sources whose correspondences come from the images (the method's objects, the whole and the
 // turned images); the geometry (FPFH) and the object centroids match shapes, which a symmetric
 // scene repeats.
-bool RestsOnImages(const std::string& path) {
-  return path.rfind("image", 0) == 0 || path == "object" || path.rfind("object ", 0) == 0;
+bool RestsOnImages(const Path& path) {
+  switch (path.source) {
+    case PathSource::kObject:
+    case PathSource::kImage:
+    case PathSource::kImageFallback:
+    case PathSource::kImageRival:
+    case PathSource::kImageTurned90:
+    case PathSource::kImageTurned180:
+    case PathSource::kImageTurned270:
+      return true;
+    default:
+      return false;
+  }
 }
 
-Alternative AlternativeOf(const std::string& name, const RegistrationResult& r, double apart_m) {
+Alternative AlternativeOf(const RegistrationResult& r, double apart_m) {
   const VerificationResult& v = r.verification;
-  return {name,          r.T_target_source, v.score,
-          v.overlap,     v.violation,       v.brightness_rank_correlation,
-          r.num_inliers, apart_m,           r.outside_prior};
+  return {PathName(r.path), r.T_target_source, v.score,
+          v.overlap,        v.violation,       v.brightness_rank_correlation,
+          r.num_inliers,    apart_m,           r.outside_prior};
 }
 
 }  // namespace
@@ -104,7 +115,10 @@ Judged Arbiter::Ask(Proposal p, bool timed) {
 //     source of the class is judged and the best by Better wins; a valid held candidate is never
 //     replaced by one farther than ICP's widest gate from it (the check cannot choose between two
 //     poses it accepts). kTurned is asked only when kExtra left nothing valid.
-//  4. kPrior: with a motion prior and nothing valid, ICP from the prior, taken only when valid.
+//  4. kSecondPose: a valid winner that is not Decisive is judged against turns of itself; one that
+//     Rivals it (fits too, farther apart than ICP's widest gate) makes it ambiguous, not valid.
+//  5. kPrior: with a motion prior and nothing valid (nor ambiguous), ICP from the prior, taken only
+//     when valid.
 // An invalid candidate never replaces a held one except in step 2's fallback, where the method's
 // candidate stays only if it has count evidence and a higher score while the fallback never
 // passed.
@@ -117,7 +131,7 @@ RegistrationResult Arbiter::Decide(Proposal method, RegistrationResult scans) {
   const bool whole_image = pair_.whole_image != nullptr && pair_.whole_image->available();
   if (!held.result.valid && whole_image) {
     Instead(&held);
-  } else if (held.result.valid && held.result.path == "object" && whole_image &&
+  } else if (held.result.valid && held.result.path == Path{PathSource::kObject} && whole_image &&
              config.verify.enabled) {
     const Doubt doubt = DoubtOf(config, held);
     if (doubt.any(config)) Against(doubt, &held);
@@ -146,7 +160,7 @@ void Arbiter::Replace(Judged winner, Judged* held) {
 
 void Arbiter::Instead(Judged* held) {
   Proposal p;
-  p.path = "image-fallback";
+  p.path = {PathSource::kImageFallback};
   p.check_name = "image-fallback ransac";
   p.correspondences = pair_.whole_image->Get();
   p.effective = *pair_.method_effective;
@@ -172,7 +186,7 @@ void Arbiter::Against(const Doubt& doubt, Judged* held) {
   RegistrationResult& result = held->result;
   timer_.Restart();
   Proposal p;
-  p.path = "image-rival";
+  p.path = {PathSource::kImageRival};
   p.correspondences = pair_.whole_image->Get();
   p.effective = *pair_.method_effective;
   Judged judged = Ask(std::move(p));
@@ -187,15 +201,16 @@ void Arbiter::Against(const Doubt& doubt, Judged* held) {
   char line[240];
   std::snprintf(line, sizeof(line), "image-rival: %s, score %.3f, %.3f m RMS from %s",
                 rival.valid ? "valid" : "not valid", rival.verification.score, m.apart_m,
-                result.path.c_str());
+                PathName(result.path).c_str());
   char held_summary[120];
-  std::snprintf(held_summary, sizeof(held_summary), "%s: score %.3f", result.path.c_str(),
+  std::snprintf(held_summary, sizeof(held_summary), "%s: score %.3f", PathName(result.path).c_str(),
                 result.verification.score);
   char support[200];
   std::snprintf(support, sizeof(support),
                 "; inliers %d (%s) against %d (image-rival), %.3f m RMS apart over the source "
                 "surface",
-                result.num_inliers, result.path.c_str(), rival.num_inliers, m.apart_surface_m);
+                result.num_inliers, PathName(result.path).c_str(), rival.num_inliers,
+                m.apart_surface_m);
   const bool asked = doubt.degenerate || doubt.rescued || doubt.single;
   std::string shown_support = asked && win != RivalWin::kScore ? support : "";
   const char* why = nullptr;
@@ -274,7 +289,7 @@ void Arbiter::MoreSources(Judged* held) {
                               ? "not valid: another pose passes the check as well"
                               : "refused by the check";
     char line[200];
-    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(), verdict,
+    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", PathName(r.path).c_str(), verdict,
                   r.verification.score);
     return std::string(line);
   };
@@ -288,7 +303,7 @@ void Arbiter::MoreSources(Judged* held) {
     summary += "; " + std::to_string(disagreeing) +
                " valid, higher-scoring, disagreeing with the method's valid estimate: not taken";
   }
-  result->reason += " [hypotheses: " + summary + "; chosen: " + result->path + "]";
+  result->reason += " [hypotheses: " + summary + "; chosen: " + PathName(result->path) + "]";
 }
 
 void Arbiter::FromPrior(Judged* held) {
@@ -325,28 +340,30 @@ void Arbiter::SecondPose(Judged* held) {
     const Judged second = Ask(std::move(*p));
     const double apart_m = PointDisplacementRms(&pair_.source.surface, first.T_target_source,
                                                 second.result.T_target_source);
-    // Closer than every rival found so far to one of them: the same second pose again.
+    // Within ICP's widest gate of a pose already listed: the same second pose again.
     bool seen = false;
-    for (const Alternative& r : rivals) {
-      seen = seen || PointDisplacementRms(&pair_.source.surface, r.T_target_source,
-                                          second.result.T_target_source) <=
-                         config.refine.max_distance_coarse_m;
+    for (const std::vector<Alternative>* list : {&rivals, &ruled_out}) {
+      for (const Alternative& r : *list) {
+        seen = seen || PointDisplacementRms(&pair_.source.surface, r.T_target_source,
+                                            second.result.T_target_source) <=
+                           config.refine.max_distance_coarse_m;
+      }
     }
     if (seen) continue;
     if (Rivals(config, first, second.result, apart_m)) {
-      rivals.push_back(AlternativeOf(second.result.path, second.result, apart_m));
+      rivals.push_back(AlternativeOf(second.result, apart_m));
     } else if (second.result.outside_prior && second.result.verification.passed &&
                apart_m > config.refine.max_distance_coarse_m) {
       RegistrationResult unprioritised = second.result;
       unprioritised.outside_prior = false;
       if (Rivals(config, first, unprioritised, apart_m)) {
-        ruled_out.push_back(AlternativeOf(second.result.path, second.result, apart_m));
+        ruled_out.push_back(AlternativeOf(second.result, apart_m));
       }
     }
   }
   timer_.Mark("ambiguity");
   if (rivals.empty() && ruled_out.empty()) return;
-  first.alternatives = {AlternativeOf(first.path, first, 0.0)};
+  first.alternatives = {AlternativeOf(first, 0.0)};
   for (const std::vector<Alternative>* list : {&rivals, &ruled_out}) {
     first.alternatives.insert(first.alternatives.end(), list->begin(), list->end());
   }
@@ -366,8 +383,8 @@ void Arbiter::SecondPose(Judged* held) {
                 " [ambiguous: %s (score %.3f) and %s (score %.3f, images agree %.2f) both fit the "
                 "scans, %.2f m apart over the source surface; the check tells poses apart only "
                 "beyond %.2f m, so the pair alone cannot choose: give a motion prior]",
-                first.path.c_str(), first.verification.score, nearest.name.c_str(), nearest.score,
-                nearest.brightness_rank_correlation, nearest.apart_m,
+                PathName(first.path).c_str(), first.verification.score, nearest.name.c_str(),
+                nearest.score, nearest.brightness_rank_correlation, nearest.apart_m,
                 config.refine.max_distance_coarse_m);
   first.reason += line;
 }

@@ -36,8 +36,15 @@ RegistrationResult Candidate(double score, bool passed = true, double rho = 0.7)
   return r;
 }
 
+// The test switched on (ambiguity.enabled is off by default).
+PipelineConfig On() {
+  PipelineConfig config;
+  config.ambiguity.enabled = true;
+  return config;
+}
+
 TEST(AmbiguityRule, ASecondPoseRivalsOnlyWhenItFitsFarAwayAndItsImagesAgree) {
-  const PipelineConfig config;
+  const PipelineConfig config = On();
   const double gate = config.refine.max_distance_coarse_m;
   const RegistrationResult first = Candidate(0.6);
   EXPECT_TRUE(Rivals(config, first, Candidate(0.4), 2 * gate));
@@ -62,20 +69,25 @@ TEST(AmbiguityRule, OnlyEnoughImageCorrespondencesAreDecisive) {
   PipelineConfig config;
   config.ambiguity.decisive_inliers = 50;
   RegistrationResult r = Candidate(0.5);
-  for (const std::string path : {"object", "image-fallback", "image-rival", "object clique"}) {
+  for (const Path path :
+       {Path{PathSource::kObject}, Path{PathSource::kImageFallback}, Path{PathSource::kImageRival},
+        Path{PathSource::kObject, PathEstimator::kClique}}) {
     r.path = path;
     r.num_inliers = 50;
-    EXPECT_TRUE(Decisive(config, r)) << path;
+    EXPECT_TRUE(Decisive(config, r)) << PathName(path);
     r.num_inliers = 49;
-    EXPECT_FALSE(Decisive(config, r)) << path;
+    EXPECT_FALSE(Decisive(config, r)) << PathName(path);
   }
   // Shapes match themselves under a symmetry, however many of them agree.
-  for (const std::string path : {"geometry clique", "object-pairs clique", "object-centroids"}) {
+  for (const Path path : {Path{PathSource::kGeometry, PathEstimator::kClique},
+                          Path{PathSource::kObjectPairs, PathEstimator::kClique},
+                          Path{PathSource::kObjectCentroids}}) {
     r.path = path;
     r.num_inliers = 5000;
-    EXPECT_FALSE(Decisive(config, r)) << path;
+    EXPECT_FALSE(Decisive(config, r)) << PathName(path);
   }
-  r.path = "prior icp";  // the caller's prior pins it
+  r.path = {PathSource::kPrior, PathEstimator::kMethod,
+            /*moved_by_icp=*/true};  // the caller's prior pins it
   r.num_inliers = 0;
   EXPECT_TRUE(Decisive(config, r));
 }
@@ -99,7 +111,7 @@ struct AmbiguityRun {
 // The arbiter on a valid object-path candidate (score 0.6, `inliers` inliers, at the identity)
 // whose turned poses the stand-in judge answers from `seconds` (a turn not listed: refused).
 AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, int inliers = 10,
-                          const PipelineConfig& base = PipelineConfig()) {
+                          const PipelineConfig& base = On()) {
   AmbiguityRun run;
   PipelineConfig config = base;
   config.hypotheses.enabled = false;  // only the method's candidate and the second poses
@@ -114,33 +126,34 @@ AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, i
   const JudgeFn judge = [&](Proposal p, StageTimer*) {
     Judged j;
     RegistrationResult& r = j.result;
-    if (p.path == "object") {
+    if (p.path == Path{PathSource::kObject}) {
       r = Candidate(0.6);
       r.num_inliers = inliers;
-      r.path = "object";
+      r.path = {PathSource::kObject};
       return j;
     }
     ++run.asked;
-    EXPECT_TRUE(p.pose.has_value()) << p.path;
+    EXPECT_TRUE(p.pose.has_value()) << PathName(p.path);
     EXPECT_DOUBLE_EQ(p.effective.verify.max_violation, config.ambiguity.max_violation);
-    const auto it = seconds.find(p.path);
+    const auto it = seconds.find(PathName(p.path));
     const StandInSecond s = it == seconds.end() ? StandInSecond() : it->second;
     r = Candidate(s.score, s.passed, s.rho);
     r.valid = s.passed && !s.outside_prior;
     r.outside_prior = s.outside_prior;
-    r.path = p.path + " icp";
+    r.path = p.path;
+    r.path.moved_by_icp = true;
     r.T_target_source = Along(s.offset_m);
     return j;
   };
   StageTimer timer;
   Proposal method;
-  method.path = "object";
+  method.path = {PathSource::kObject};
   run.result = Arbiter(judge, pair, timer).Decide(method, scans);
   return run;
 }
 
 TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
-  const AmbiguityRun run = RunAmbiguity({{"turned 180", {0.45, true, 0.8, 1.5}}});
+  const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}});
   EXPECT_EQ(run.asked, 6);  // three turns about each of two centres
   const RegistrationResult& r = run.result;
   EXPECT_FALSE(r.valid);
@@ -152,7 +165,7 @@ TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
   EXPECT_EQ(r.alternatives[0].name, "object");
   EXPECT_DOUBLE_EQ(r.alternatives[0].score, 0.6);
   EXPECT_TRUE(r.alternatives[0].T_target_source.isApprox(Transform::Identity()));
-  EXPECT_EQ(r.alternatives[1].name, "turned 180 icp");
+  EXPECT_EQ(r.alternatives[1].name, "turned-180 icp");
   EXPECT_DOUBLE_EQ(r.alternatives[1].score, 0.45);
   EXPECT_NEAR(r.alternatives[1].apart_m, 1.5, 1e-9);
   EXPECT_TRUE(r.alternatives[1].T_target_source.isApprox(Along(1.5)));
@@ -162,9 +175,9 @@ TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
 
 TEST(AmbiguityArbiter, NoRivalNoDecisionChange) {
   // Refused, images disagreeing, or the same answer within ICP's gate: the result stays valid.
-  const AmbiguityRun run = RunAmbiguity({{"turned 90", {0.5, false, 0.8, 1.5}},
-                                         {"turned 180", {0.5, true, 0.1, 1.5}},
-                                         {"turned 270", {0.6, true, 0.8, 0.05}}});
+  const AmbiguityRun run = RunAmbiguity({{"turned-90", {0.5, false, 0.8, 1.5}},
+                                         {"turned-180", {0.5, true, 0.1, 1.5}},
+                                         {"turned-270", {0.6, true, 0.8, 0.05}}});
   EXPECT_TRUE(run.result.valid);
   EXPECT_FALSE(run.result.ambiguous);
   EXPECT_TRUE(run.result.alternatives.empty());
@@ -172,16 +185,15 @@ TEST(AmbiguityArbiter, NoRivalNoDecisionChange) {
 }
 
 TEST(AmbiguityArbiter, ADecisiveResultIsNotSearched) {
-  const AmbiguityRun run = RunAmbiguity({{"turned 180", {0.45, true, 0.8, 1.5}}}, 500);
+  const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 500);
   EXPECT_EQ(run.asked, 0);
   EXPECT_TRUE(run.result.valid);
-  PipelineConfig off;
-  off.ambiguity.enabled = false;
-  EXPECT_EQ(RunAmbiguity({{"turned 180", {0.45, true, 0.8, 1.5}}}, 10, off).asked, 0);
+  const PipelineConfig off;  // the default
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 10, off).asked, 0);
 }
 
 TEST(AmbiguityArbiter, APriorThatRulesTheOtherPoseOutKeepsTheResultValid) {
-  const AmbiguityRun run = RunAmbiguity({{"turned 180", {0.45, true, 0.8, 1.5, true}}});
+  const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5, true}}});
   const RegistrationResult& r = run.result;
   EXPECT_TRUE(r.valid);
   EXPECT_FALSE(r.ambiguous);
@@ -191,7 +203,7 @@ TEST(AmbiguityArbiter, APriorThatRulesTheOtherPoseOutKeepsTheResultValid) {
 }
 
 TEST(AmbiguityJson, AlternativesRoundTripThroughTheResultJson) {
-  const RegistrationResult r = RunAmbiguity({{"turned 90", {0.45, true, 0.8, 1.5}}}).result;
+  const RegistrationResult r = RunAmbiguity({{"turned-90", {0.45, true, 0.8, 1.5}}}).result;
   const nlohmann::json j = nlohmann::json::parse(ResultToJson(r, false).dump());
   EXPECT_EQ(j["valid"], false);
   EXPECT_EQ(j["ambiguous"], true);
@@ -227,7 +239,7 @@ RegistrationResult RegisterFrames(const std::string& scene, int source, int targ
   const Scan s = LoadScan(dir + std::to_string(source));
   const Scan t = LoadScan(dir + std::to_string(target));
   *gt = t.T_world_scan_gt->inverse() * *s.T_world_scan_gt;
-  return Register(s, t, PipelineConfig());
+  return Register(s, t, On());
 }
 
 TEST(AmbiguityReal, ACabinetHalfTurnIsAmbiguousNotValid) {

@@ -65,7 +65,9 @@ class TurnedPoseSource : public PoseSource {
     turn.topLeftCorner<3, 3>() = Eigen::AngleAxisd(degrees_ * M_PI / 180.0, up).toRotationMatrix();
     turn.topRightCorner<3, 1>() = *centre - turn.topLeftCorner<3, 3>() * *centre;
     Proposal p;
-    p.path = name();
+    p.path = {degrees_ < 135   ? PathSource::kTurned90
+              : degrees_ < 225 ? PathSource::kTurned180
+                               : PathSource::kTurned270};
     p.pose = turn * T;
     // With a motion prior a start this far from it cannot end within its tolerance (ICP turns a
     // few degrees), so it could never rival a pose the prior accepts.
