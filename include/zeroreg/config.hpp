@@ -653,6 +653,33 @@ struct HypothesesConfig {
   bool image_rival_single = true;
 };
 
+// The arbiter's ambiguity test (docs/ARCHITECTURE.md): a valid result whose evidence is not
+// decisive is judged against second poses away from it; if one fits about as well, the result is
+// not valid but ambiguous, with both poses in RegistrationResult::alternatives.
+struct AmbiguityConfig {
+  // Off by default: measured on samples of the frame lists, the search ran on 1-6 of every 8-15
+  // pairs and took 28-68 % of their time, and it made one right result of 8 (cabinet-gap1) and
+  // of 15 (hololens-gap5) ambiguous; on the 300 low-overlap pairs of scripts/bench-negatives.py it
+  // refuses most TUM-cabinet half turns (docs/ARCHITECTURE.md "Ambiguity").
+  bool enabled = false;
+  // Decisive: at least this many image correspondences (inliers under the reported pose, of a
+  // source that matched images) support it; then the second poses are not sought. Geometry (FPFH)
+  // and object-centroid correspondences are never decisive: a symmetric shape matches itself.
+  // Measured: every half turn of the TUM cabinet reported valid (scripts/bench-negatives.py) had at
+  // most 38 image inliers.
+  int decisive_inliers = 50;
+  // The second poses: the reported pose turned by 90, 180 and 270 deg about the target's vertical
+  // (its first view's image up) through the centroid of the source surface it places, then ICP.
+  // The check judges them with this free-space tolerance instead of verify.max_violation: at the
+  // truth of the TUM cabinet's half-turn pairs the check measures 10-54 % (its depth and poses
+  // disagree there), so the strict check cannot see that a second pose fits.
+  double max_violation = 0.25;
+  // A second pose rivals the reported one when it passes that check, its images agree where its
+  // depth agrees (hypotheses.min_brightness_rank_correlation) and its score is at least this
+  // fraction of the reported one's.
+  double min_score_fraction = 0.3;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
@@ -669,6 +696,7 @@ struct PipelineConfig {
   ObjectMatchConfig object_match;
   MethodConfig method;
   HypothesesConfig hypotheses;
+  AmbiguityConfig ambiguity;
   // Every random step derives its seed from this one (RANSAC, the object matcher's random starts,
   // GrabCut's GMM initialisation); there is no other seed setting.
   std::uint64_t seed = 0;

@@ -129,6 +129,20 @@ struct VerificationResult {
   int source_samples = 0, target_samples = 0;  // sampled depth pixels of each scan
 };
 
+// One of the poses that fit an ambiguous pair (RegistrationResult::alternatives): the check's
+// measures under it and the evidence that speaks for it.
+struct Alternative {
+  std::string name;  // the candidate it comes from, e.g. "image-fallback icp", "turned 180 icp"
+  Transform T_target_source = Transform::Identity();
+  double score = 0.0;                        // VerificationResult::score
+  double overlap = 0.0;                      // VerificationResult::overlap
+  double violation = 0.0;                    // VerificationResult::violation
+  double brightness_rank_correlation = 0.0;  // NaN when too few samples had colour
+  int num_inliers = 0;                       // correspondences supporting it (0 for a turned pose)
+  double apart_m = 0.0;        // RMS distance over the source surface from the first alternative
+  bool outside_prior = false;  // beyond the caller's MotionPrior (so the prior rules it out)
+};
+
 // One candidate transform the pipeline considered (e.g. RANSAC's and ICP's), with its check.
 struct CandidateSummary {
   std::string name;  // e.g. "object ransac", "object icp", "image-fallback ransac"
@@ -157,6 +171,8 @@ enum class RefusalTest {
   kImagesDisagree,      // brightness rank correlation; hypotheses.min_brightness_rank_correlation
   kAnotherPosePasses,   // RMS apart of the estimate and ICP's pose, both accepted (m);
                         // refine.max_distance_coarse_m
+  kAmbiguous,           // RMS apart over the source surface of the two poses that fit (m);
+                        // refine.max_distance_coarse_m (RegistrationResult::alternatives)
 };
 struct Refusal {
   RefusalTest test = RefusalTest::kNone;
@@ -183,6 +199,9 @@ enum class PathSource {
   kImageTurned180,   // "image-turned-180"
   kImageTurned270,   // "image-turned-270"
   kPrior,            // "prior": ICP from the caller's MotionPrior
+  kTurned90,         // "turned-90": the reported pose turned about the vertical (ambiguity test)
+  kTurned180,        // "turned-180"
+  kTurned270,        // "turned-270"
 };
 // The estimator an extra source names after its source ("image clique"); kMethod: the method's
 // own flow (ransac.estimator), whose path names none.
@@ -234,6 +253,13 @@ struct RegistrationResult {
   VerificationResult verification;
   // Every transform that was checked, in the order they were made (the chosen one marked).
   std::vector<CandidateSummary> candidates;
+  // Two (or more) poses farther apart than the check can tell fit the scans about equally well
+  // (the arbiter's ambiguity test, docs/ARCHITECTURE.md): `valid` is false, refusal kAmbiguous,
+  // and `alternatives` holds each pose, the one T_target_source reports first. With a motion
+  // prior that rules all but one out, the result is valid, not ambiguous, and the ruled-out ones
+  // stay listed (outside_prior).
+  bool ambiguous = false;
+  std::vector<Alternative> alternatives;
 };
 
 }  // namespace zeroreg

@@ -722,6 +722,22 @@ void BindResult(py::module_& m) {
           },
           "None when valid; else a dict: test (e.g. 'few_inliers', 'low_overlap', "
           "'outside_prior'), measured, threshold (units: RefusalTest in zeroreg/types.hpp).")
+      .def_readonly("ambiguous", &RegistrationResult::ambiguous,
+                    "True when two poses farther apart than the check can tell fit the scans "
+                    "about equally well (valid is then False; see alternatives).")
+      .def_property_readonly(
+          "alternatives",
+          [](const RegistrationResult& r) {
+            py::list out = FromJson(ResultToJson(r, false)["alternatives"]);
+            for (size_t i = 0; i < r.alternatives.size(); ++i) {
+              py::dict alternative = out[i];
+              alternative["T_target_source"] = MatrixToNumpy(r.alternatives[i].T_target_source);
+            }
+            return out;
+          },
+          "The poses that fit an ambiguous pair, the reported one first (or that a motion prior "
+          "ruled out): a list of dicts with name, T_target_source (4x4 array), score, "
+          "overlap, violation, brightness_rank_correlation, inliers, apart_m, outside_prior.")
       .def_property_readonly(
           "path", [](const RegistrationResult& r) { return PathName(r.path); },
           "Which source produced the transform (str), e.g. 'object', 'image-fallback', "

@@ -6,11 +6,12 @@ on this pair, so a wrong convention (RGB/BGR swap, transposed pose, wrong depth 
 """
 
 import json
+import os
 
 import numpy as np
 import pytest
 import zeroreg
-from conftest import frame_file, frame_pose, frame_spec, frame_view_dict
+from conftest import REPO, frame_file, frame_pose, frame_spec, frame_view_dict
 
 
 def assert_close_to_gt(result, T_gt):
@@ -322,3 +323,28 @@ def test_refusal_is_data_none_when_valid(result_20_0_from_paths):
     assert not r.valid
     assert r.refusal == {"test": "few_inliers", "measured": float(r.counts["inliers"]),
                          "threshold": 100000.0}
+
+
+def test_ambiguous_result_lists_both_poses():
+    # A TUM cabinet pair seen from opposite sides (co-visibility 0.26 under the ground truth): a
+    # turned pose fits as well as the reported one, so the result is not valid but ambiguous,
+    # both poses listed, the reported one first.
+    cabinet = os.path.join(REPO, "..", "shared", "data", "tum-fr3-cabinet")
+    pipeline = zeroreg.Pipeline({"ambiguity": {"enabled": True}})  # off by default
+    r = pipeline.register(f"{cabinet}@31", f"{cabinet}@9")
+    assert not r.valid and r.ambiguous, r.reason
+    assert r.refusal["test"] == "ambiguous"
+    assert len(r.alternatives) >= 2
+    first, second = r.alternatives[0], r.alternatives[1]
+    np.testing.assert_array_equal(first["T_target_source"], r.T_target_source)
+    assert second["T_target_source"].shape == (4, 4)
+    assert second["apart_m"] > r.refusal["threshold"]
+    assert zeroreg.rotation_error_deg(first["T_target_source"], second["T_target_source"]) > 45
+    d = r.to_dict()
+    assert d["ambiguous"] is True and len(d["alternatives"]) == len(r.alternatives)
+
+
+def test_unambiguous_result_has_no_alternatives(result_20_0_from_paths):
+    assert result_20_0_from_paths.valid
+    assert not result_20_0_from_paths.ambiguous
+    assert result_20_0_from_paths.alternatives == []

@@ -1,6 +1,7 @@
 #include "pipeline/arbiter.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 namespace zeroreg {
@@ -51,6 +52,49 @@ RivalWin RivalRule(const PipelineConfig& config, const Doubt& doubt, const Regis
   return RivalWin::kNone;
 }
 
+namespace {
+
+// Sources whose correspondences come from the images (the method's objects, the whole and the
+// turned images); the geometry (FPFH) and the object centroids match shapes, which a symmetric
+// scene repeats.
+bool RestsOnImages(const Path& path) {
+  switch (path.source) {
+    case PathSource::kObject:
+    case PathSource::kImage:
+    case PathSource::kImageFallback:
+    case PathSource::kImageRival:
+    case PathSource::kImageTurned90:
+    case PathSource::kImageTurned180:
+    case PathSource::kImageTurned270:
+      return true;
+    default:
+      return false;
+  }
+}
+
+Alternative AlternativeOf(const RegistrationResult& r, double apart_m) {
+  const VerificationResult& v = r.verification;
+  return {PathName(r.path), r.T_target_source, v.score,
+          v.overlap,        v.violation,       v.brightness_rank_correlation,
+          r.num_inliers,    apart_m,           r.outside_prior};
+}
+
+}  // namespace
+
+bool Decisive(const PipelineConfig& config, const RegistrationResult& result) {
+  return (RestsOnImages(result.path) && result.num_inliers >= config.ambiguity.decisive_inliers) ||
+         ComesFromMotionPrior(result);
+}
+
+bool Rivals(const PipelineConfig& config, const RegistrationResult& first,
+            const RegistrationResult& second, double apart_m) {
+  const VerificationResult& v = second.verification;
+  const double rho = v.brightness_rank_correlation;
+  return apart_m > config.refine.max_distance_coarse_m && !second.outside_prior && v.passed &&
+         std::isfinite(rho) && rho >= config.hypotheses.min_brightness_rank_correlation &&
+         v.score >= config.ambiguity.min_score_fraction * first.verification.score;
+}
+
 Judged Arbiter::Ask(Proposal p, bool timed) {
   Judged j = judge_(std::move(p), timed ? &timer_ : nullptr);
   log_.insert(log_.end(), j.result.candidates.begin(), j.result.candidates.end());
@@ -71,7 +115,10 @@ Judged Arbiter::Ask(Proposal p, bool timed) {
 //     source of the class is judged and the best by Better wins; a valid held candidate is never
 //     replaced by one farther than ICP's widest gate from it (the check cannot choose between two
 //     poses it accepts). kTurned is asked only when kExtra left nothing valid.
-//  4. kPrior: with a motion prior and nothing valid, ICP from the prior, taken only when valid.
+//  4. kSecondPose: a valid winner that is not Decisive is judged against turns of itself; one that
+//     Rivals it (fits too, farther apart than ICP's widest gate) makes it ambiguous, not valid.
+//  5. kPrior: with a motion prior and nothing valid (nor ambiguous), ICP from the prior, taken only
+//     when valid.
 // An invalid candidate never replaces a held one except in step 2's fallback, where the method's
 // candidate stays only if it has count evidence and a higher score while the fallback never
 // passed.
@@ -90,7 +137,11 @@ RegistrationResult Arbiter::Decide(Proposal method, RegistrationResult scans) {
     if (doubt.any(config)) Against(doubt, &held);
   }
   if (WantMoreSources(config, held.result)) MoreSources(&held);
-  if (pair_.prior && !held.result.valid) FromPrior(&held);
+  if (config.ambiguity.enabled && config.verify.enabled && held.result.valid &&
+      !Decisive(config, held.result)) {
+    SecondPose(&held);
+  }
+  if (pair_.prior && !held.result.valid && !held.result.ambiguous) FromPrior(&held);
   RegistrationResult result = std::move(held.result);
   result.candidates = std::move(log_);
   for (CandidateSummary& c : result.candidates) {
@@ -273,6 +324,69 @@ void Arbiter::FromPrior(Judged* held) {
   } else {
     result->reason += " [motion prior: ICP from it is not valid either: " + j.result.reason + "]";
   }
+}
+
+void Arbiter::SecondPose(Judged* held) {
+  RegistrationResult& first = held->result;
+  const PipelineConfig& config = pair_.config;
+  PairInputs pair = pair_;
+  pair.first = &first;
+  std::vector<Alternative> rivals, ruled_out;
+  timer_.Restart();
+  for (const std::unique_ptr<PoseSource>& source : MakeSources(CostClass::kSecondPose)) {
+    std::string note;
+    std::optional<Proposal> p = source->Propose(pair, &note);
+    if (!p) continue;
+    const Judged second = Ask(std::move(*p));
+    const double apart_m = PointDisplacementRms(&pair_.source.surface, first.T_target_source,
+                                                second.result.T_target_source);
+    // Within ICP's widest gate of a pose already listed: the same second pose again.
+    bool seen = false;
+    for (const std::vector<Alternative>* list : {&rivals, &ruled_out}) {
+      for (const Alternative& r : *list) {
+        seen = seen || PointDisplacementRms(&pair_.source.surface, r.T_target_source,
+                                            second.result.T_target_source) <=
+                           config.refine.max_distance_coarse_m;
+      }
+    }
+    if (seen) continue;
+    if (Rivals(config, first, second.result, apart_m)) {
+      rivals.push_back(AlternativeOf(second.result, apart_m));
+    } else if (second.result.outside_prior && second.result.verification.passed &&
+               apart_m > config.refine.max_distance_coarse_m) {
+      RegistrationResult unprioritised = second.result;
+      unprioritised.outside_prior = false;
+      if (Rivals(config, first, unprioritised, apart_m)) {
+        ruled_out.push_back(AlternativeOf(second.result, apart_m));
+      }
+    }
+  }
+  timer_.Mark("ambiguity");
+  if (rivals.empty() && ruled_out.empty()) return;
+  first.alternatives = {AlternativeOf(first, 0.0)};
+  for (const std::vector<Alternative>* list : {&rivals, &ruled_out}) {
+    first.alternatives.insert(first.alternatives.end(), list->begin(), list->end());
+  }
+  if (rivals.empty()) {
+    first.reason += " [" + std::to_string(ruled_out.size()) +
+                    " other pose(s) fit as well but lie outside the motion prior]";
+    return;
+  }
+  const Alternative& nearest = *std::min_element(
+      rivals.begin(), rivals.end(),
+      [](const Alternative& a, const Alternative& b) { return a.apart_m < b.apart_m; });
+  first.valid = false;
+  first.ambiguous = true;
+  first.refusal = {RefusalTest::kAmbiguous, nearest.apart_m, config.refine.max_distance_coarse_m};
+  char line[320];
+  std::snprintf(line, sizeof(line),
+                " [ambiguous: %s (score %.3f) and %s (score %.3f, images agree %.2f) both fit the "
+                "scans, %.2f m apart over the source surface; the check tells poses apart only "
+                "beyond %.2f m, so the pair alone cannot choose: give a motion prior]",
+                PathName(first.path).c_str(), first.verification.score, nearest.name.c_str(),
+                nearest.score, nearest.brightness_rank_correlation, nearest.apart_m,
+                config.refine.max_distance_coarse_m);
+  first.reason += line;
 }
 
 }  // namespace zeroreg

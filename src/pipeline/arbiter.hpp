@@ -43,6 +43,19 @@ struct RivalMeasure {
 RivalWin RivalRule(const PipelineConfig& config, const Doubt& doubt, const RegistrationResult& held,
                    const RegistrationResult& rival, const RivalMeasure& measure);
 
+// Whether a valid result's evidence settles it without the ambiguity test: enough image
+// correspondences support it (ambiguity.decisive_inliers) from a source that matched images.
+bool Decisive(const PipelineConfig& config, const RegistrationResult& result);
+
+// Whether `second` rivals the valid `first` (the ambiguity rule): the check can tell them apart
+// (`apart_m`, their RMS distance over the source surface, beyond ICP's widest gate
+// refine.max_distance_coarse_m: closer, ICP from one reaches the other and they are one answer),
+// no motion prior rules it out, it passed the check judged with ambiguity.max_violation, its
+// images agree where its depth does (hypotheses.min_brightness_rank_correlation) and its score is
+// at least ambiguity.min_score_fraction of first's.
+bool Rivals(const PipelineConfig& config, const RegistrationResult& first,
+            const RegistrationResult& second, double apart_m);
+
 class Arbiter {
  public:
   Arbiter(JudgeFn judge, PairInputs& pair, StageTimer& timer)
@@ -60,6 +73,8 @@ class Arbiter {
   void Against(const Doubt& doubt, Judged* held);
   void MoreSources(Judged* held);
   void FromPrior(Judged* held);
+  // The ambiguity test: second poses away from a valid one that is not decisive.
+  void SecondPose(Judged* held);
 
   JudgeFn judge_;
   PairInputs& pair_;

@@ -248,6 +248,13 @@ void Visit(V& v, HypothesesConfig& c) {
   v("image_rival_single", c.image_rival_single);
 }
 template <typename V>
+void Visit(V& v, AmbiguityConfig& c) {
+  v("enabled", c.enabled);
+  v("decisive_inliers", c.decisive_inliers, AtLeast(0));
+  v("max_violation", c.max_violation, Fraction());
+  v("min_score_fraction", c.min_score_fraction, Fraction());
+}
+template <typename V>
 void Visit(V& v, PipelineConfig& c) {
   v.Section("method", c.method);
   v.Section("features", c.features);
@@ -264,6 +271,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("refine", c.refine);
   v.Section("verify", c.verify);
   v.Section("hypotheses", c.hypotheses);
+  v.Section("ambiguity", c.ambiguity);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
   v("threads", c.threads, Between(1, 64));
@@ -623,6 +631,23 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
     }
     j["candidates"] = candidates;
   }
+  // Every pose that fits an ambiguous pair (or that a motion prior ruled out), the reported first.
+  j["ambiguous"] = r.ambiguous;
+  json alternatives = json::array();
+  for (const Alternative& a : r.alternatives) {
+    const double rho = a.brightness_rank_correlation;
+    alternatives.push_back(
+        {{"name", a.name},
+         {"T_target_source", TransformToJson(a.T_target_source)},
+         {"score", a.score},
+         {"overlap", a.overlap},
+         {"violation", a.violation},
+         {"brightness_rank_correlation", std::isfinite(rho) ? json(rho) : json()},
+         {"inliers", a.num_inliers},
+         {"apart_m", a.apart_m},
+         {"outside_prior", a.outside_prior}});
+  }
+  j["alternatives"] = alternatives;
   if (!r.source_objects.empty() || !r.target_objects.empty()) {
     json matches = json::array();
     for (const ObjectMatchSummary& m : r.object_matches) {

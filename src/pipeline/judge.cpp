@@ -179,6 +179,8 @@ const char* RefusalTestName(RefusalTest test) {
       return "images_disagree";
     case RefusalTest::kAnotherPosePasses:
       return "another_pose_passes";
+    case RefusalTest::kAmbiguous:
+      return "ambiguous";
   }
   return "";
 }
@@ -220,6 +222,9 @@ std::string DescribeRefusal(const Refusal& r) {
       break;
     case RefusalTest::kAnotherPosePasses:
       what = "another pose passes the check: %g m away (ICP's widest gate %g m)";
+      break;
+    case RefusalTest::kAmbiguous:
+      what = "ambiguous: two poses fit, %g m apart (the check tells poses apart beyond %g m)";
       break;
   }
   char text[200];

@@ -44,6 +44,15 @@ std::string PathName(const Path& path) {
     case PathSource::kPrior:
       name = "prior";
       break;
+    case PathSource::kTurned90:
+      name = "turned-90";
+      break;
+    case PathSource::kTurned180:
+      name = "turned-180";
+      break;
+    case PathSource::kTurned270:
+      name = "turned-270";
+      break;
   }
   if (path.estimator == PathEstimator::kRansac) name += " ransac";
   if (path.estimator == PathEstimator::kClique) name += " clique";

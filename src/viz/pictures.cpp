@@ -185,6 +185,31 @@ cv::Mat DrawVerification(const Scan& source, const Scan& target, const Registrat
   return canvas;
 }
 
+namespace {
+
+// Tiles two per row, an odd last row padded with white; empty without tiles.
+cv::Mat TwoPerRow(const std::vector<cv::Mat>& tiles) {
+  if (tiles.empty()) return {};
+  const int columns = tiles.size() > 1 ? 2 : 1;
+  std::vector<cv::Mat> rows;
+  for (size_t k = 0; k < tiles.size(); k += columns) {
+    std::vector<cv::Mat> row(
+        tiles.begin() + static_cast<long>(k),
+        tiles.begin() + static_cast<long>(std::min(tiles.size(), k + columns)));
+    while (static_cast<int>(row.size()) < columns) {
+      row.emplace_back(tiles[0].size(), tiles[0].type(), cv::Scalar(255, 255, 255));
+    }
+    cv::Mat joined;
+    cv::hconcat(row, joined);
+    rows.push_back(joined);
+  }
+  cv::Mat canvas;
+  cv::vconcat(rows, canvas);
+  return canvas;
+}
+
+}  // namespace
+
 cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,
                        int view, int max_candidates) {
   // The chosen candidate first, then the others by verification score (best first).
@@ -210,29 +235,30 @@ cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const Registratio
     Caption(tile, text);
     tiles.push_back(tile);
   }
-  if (tiles.empty()) return {};
-  // Two tiles per row; an odd last row is padded with white.
-  const int columns = tiles.size() > 1 ? 2 : 1;
-  std::vector<cv::Mat> rows;
-  for (size_t k = 0; k < tiles.size(); k += columns) {
-    std::vector<cv::Mat> row(
-        tiles.begin() + static_cast<long>(k),
-        tiles.begin() + static_cast<long>(std::min(tiles.size(), k + columns)));
-    while (static_cast<int>(row.size()) < columns) {
-      row.emplace_back(tiles[0].size(), tiles[0].type(), cv::Scalar(255, 255, 255));
-    }
-    cv::Mat joined;
-    cv::hconcat(row, joined);
-    rows.push_back(joined);
+  return TwoPerRow(tiles);
+}
+
+cv::Mat DrawAlternatives(const Scan& source, const Scan& target, const RegistrationResult& result,
+                         int view) {
+  std::vector<cv::Mat> tiles;
+  for (size_t k = 0; k < result.alternatives.size(); ++k) {
+    const Alternative& a = result.alternatives[k];
+    cv::Mat tile = DrawRegisteredClouds(source, target, a.T_target_source, view);
+    cv::rectangle(tile, cv::Point(0, tile.rows - 28), cv::Point(tile.cols, tile.rows),
+                  a.outside_prior ? cv::Scalar(90, 90, 90) : cv::Scalar(40, 110, 200), cv::FILLED);
+    char text[200];
+    std::snprintf(text, sizeof(text), "%s%s: score %.3f, %.2f m apart%s", k == 0 ? "REPORTED " : "",
+                  a.name.c_str(), a.score, a.apart_m, a.outside_prior ? ", outside the prior" : "");
+    Caption(tile, text);
+    tiles.push_back(tile);
   }
-  cv::Mat canvas;
-  cv::vconcat(rows, canvas);
-  return canvas;
+  return TwoPerRow(tiles);
 }
 
 bool IsRegistrationPictureName(const std::string& file_name) {
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification|hypotheses)-view[0-9]+(-[0-9]+)?\\.(png|"
+      "(objects|correspondences|registered|verification|hypotheses|ambiguous)-view[0-9]+(-[0-9]+)?"
+      "\\.(png|"
       "jpg)");
   return std::regex_match(file_name, name_re);
 }
@@ -284,6 +310,13 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     for (size_t v = 0; v < target.views.size(); ++v) {
       write("hypotheses-view" + std::to_string(v) + ".png",
             DrawHypotheses(source, target, result, static_cast<int>(v), /*max_candidates=*/6));
+    }
+  }
+  // The poses that fit an ambiguous pair (or that a motion prior ruled out), side by side.
+  if (!result.alternatives.empty()) {
+    for (size_t v = 0; v < target.views.size(); ++v) {
+      write("ambiguous-view" + std::to_string(v) + ".png",
+            DrawAlternatives(source, target, result, static_cast<int>(v)));
     }
   }
   // Pairs of different views (the whole-image fallback may match every source view with every

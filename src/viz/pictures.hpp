@@ -14,7 +14,9 @@
 //   hypotheses-view<i>.png      when several candidate transforms were checked: the
 //                               registered clouds under the chosen one and its runners-up (best
 //                               verification score first), each captioned with its source, score
-//                               and whether the check passed.
+//                               and whether the check passed;
+//   ambiguous-view<i>.png       when two poses fit (RegistrationResult::alternatives): the
+//                               registered clouds under each, the reported one first.
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -39,6 +41,10 @@ cv::Mat DrawVerification(const Scan& source, const Scan& target, const Registrat
 // The chosen candidate and up to max_candidates - 1 runners-up, two registered-cloud tiles a row.
 cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,
                        int view, int max_candidates);
+
+// The poses of RegistrationResult::alternatives (an ambiguous pair), the reported one first.
+cv::Mat DrawAlternatives(const Scan& source, const Scan& target, const RegistrationResult& result,
+                         int view);
 
 // Whether `file_name` is one WriteRegistrationPictures writes ("registered-view0.png",
 // "correspondences-view0-2.png", ...; .jpg accepted too).

@@ -231,7 +231,9 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::error_code ec;
   if (dir.empty() || !fs::is_directory(fs::symlink_status(dir, ec))) return found;
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification|hypotheses)-view([0-9]+)(?:-([0-9]+))?\\.("
+      "(objects|correspondences|registered|verification|hypotheses|ambiguous)-view([0-9]+)(?:-([0-"
+      "9]+))?"
+      "\\.("
       "png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
@@ -261,6 +263,10 @@ std::string PictureCaption(const std::string& kind) {
   if (kind == "verification") {
     return "geometric check in the target view (green: surfaces agree, red: source in the target "
            "camera's free space, yellow: hidden behind)";
+  }
+  if (kind == "ambiguous") {
+    return "two poses fit these scans (ambiguous): the registered clouds under each, the reported "
+           "one first (target blue, source orange)";
   }
   if (kind == "hypotheses") {
     return "the candidate transforms the check judged: the chosen one first, then the runners-up "
@@ -535,6 +541,32 @@ std::string RegisterReport(const std::string& dir, const ReportConfig& config) {
   h << "<h3>Estimated T_target_source</h3>\n" << MatrixHtml(r.value("T_target_source", json()));
   if (gt.is_object() && gt.contains("T_target_source")) {
     h << "<h3>Ground-truth T_target_source</h3>\n" << MatrixHtml(gt["T_target_source"]);
+  }
+
+  // Every pose that fits an ambiguous pair.
+  const json alternatives = r.value("alternatives", json::array());
+  if (alternatives.is_array() && !alternatives.empty()) {
+    h << "<h2>"
+      << (r.value("ambiguous", false) ? "Ambiguous: these poses fit the scans"
+                                      : "Other poses that fit, outside the motion prior")
+      << "</h2>\n";
+    std::vector<std::vector<Cell>> alternative_rows;
+    for (const json& a : alternatives) {
+      if (!a.is_object()) continue;
+      alternative_rows.push_back(
+          {Text(StringOr(a, "name")), Number(NumberOr(a, "score", 0), "%.3f"),
+           Number(NumberOr(a, "overlap", 0), "%.3f"), Number(NumberOr(a, "violation", 0), "%.3f"),
+           Number(NumberOr(a, "apart_m", 0), "%.3f"),
+           Text(a.value("outside_prior", false) ? "yes" : "no")});
+    }
+    h << SortableTable("alternatives",
+                       {{"name", "pose", false},
+                        {"score", "score", true},
+                        {"overlap", "overlap", true},
+                        {"violation", "free-space violations", true},
+                        {"apart", "apart (m RMS)", true},
+                        {"prior", "outside the prior", false}},
+                       alternative_rows);
   }
 
   // Objects (paper §3.2-3.3).

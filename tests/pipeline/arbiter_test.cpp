@@ -352,7 +352,7 @@ TEST(Refusal, FieldsDecideAndTheTextIsMadeFromThem) {
             "outside the motion prior: 178.5 (tolerance 15)");
   // Every test has a name and a sentence with both numbers.
   for (int t = static_cast<int>(RefusalTest::kFewCorrespondences);
-       t <= static_cast<int>(RefusalTest::kAnotherPosePasses); ++t) {
+       t <= static_cast<int>(RefusalTest::kAmbiguous); ++t) {
     const Refusal r{static_cast<RefusalTest>(t), 0.25, 0.5};
     EXPECT_STRNE(RefusalTestName(r.test), "") << t;
     const std::string text = DescribeRefusal(r);

@@ -153,6 +153,25 @@ TEST(Cli, SameCommandTwiceGivesIdenticalResult) {
   EXPECT_EQ(testing::TakeResultWithoutTimings(a), testing::TakeResultWithoutTimings(b));
 }
 
+// An ambiguous result is not valid: exit 1, `ambiguous` and both poses in the JSON, and
+// --out-dir draws both overlays (tum-fr3-cabinet 31 -> 9, seen from opposite sides).
+TEST(Cli, AmbiguousResultExitsOneWithBothPoses) {
+  const std::string cabinet = SharedDir() + "/data/tum-fr3-cabinet@";
+  const fs::path dir = testing::FreshTestDir("zeroreg_cli_ambiguous");
+  const auto r = RunCli("register --source '" + cabinet + "31' --target '" + cabinet +
+                        "9' --set ambiguity.enabled=true --out-dir '" + dir.string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  std::ifstream in(dir / "result.json");
+  const nlohmann::json j = nlohmann::json::parse(in)["result"];
+  EXPECT_FALSE(j["valid"].get<bool>());
+  EXPECT_TRUE(j["ambiguous"].get<bool>());
+  EXPECT_EQ(j["refusal"]["test"], "ambiguous");
+  EXPECT_GE(j["alternatives"].size(), 2u);
+  EXPECT_EQ(j["alternatives"][0]["T_target_source"], j["T_target_source"]);
+  EXPECT_TRUE(fs::exists(dir / "pictures" / "ambiguous-view0.png"));
+  fs::remove_all(dir);
+}
+
 TEST(Cli, ErrorsAreReportedInTheSameOrderForAnyThreadCount) {
   // With threads >= 2 the scans are read at once while the models load; the error reported is
   // still the first in the serial order: the source's, the target's, --gt's, then the models'.

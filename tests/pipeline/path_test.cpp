@@ -36,7 +36,7 @@ TEST(Path, NamesAreTheStringsTheJsonResultHasAlwaysCarried) {
 TEST(Path, EveryPathHasItsOwnName) {
   std::set<std::string> names;
   int paths = 0;
-  for (int s = static_cast<int>(PathSource::kObject); s <= static_cast<int>(PathSource::kPrior);
+  for (int s = static_cast<int>(PathSource::kObject); s <= static_cast<int>(PathSource::kTurned270);
        ++s) {
     for (const PathEstimator e :
          {PathEstimator::kMethod, PathEstimator::kRansac, PathEstimator::kClique}) {

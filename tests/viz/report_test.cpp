@@ -578,3 +578,30 @@ TEST_F(RegisterReport, PageShowsTheResultAndEveryPicture) {
 
 }  // namespace
 }  // namespace zeroreg
+
+namespace zeroreg {
+namespace {
+
+// An ambiguous result: the page lists both poses and embeds the picture of both overlays.
+TEST(ReportAmbiguous, ListsEveryPoseThatFitsAndShowsBothOverlays) {
+  const fs::path reg = TempDir("ambiguous-register");
+  std::ofstream(reg / "result.json") << R"({"result": {"valid": false, "ambiguous": true,
+      "alternatives": [
+        {"name": "image-fallback", "score": 0.571, "overlap": 0.5, "violation": 0.02,
+         "apart_m": 0.0, "outside_prior": false},
+        {"name": "turned-180 icp", "score": 0.31, "overlap": 0.36, "violation": 0.16,
+         "apart_m": 0.93, "outside_prior": false}]}})";
+  fs::create_directories(reg / "pictures");
+  cv::imwrite((reg / "pictures" / "ambiguous-view0.png").string(),
+              cv::Mat(40, 80, CV_8UC3, cv::Scalar(40, 110, 200)));
+  const std::string html = BuildReportHtml(reg.string());
+  EXPECT_NE(html.find("Ambiguous: these poses fit the scans"), std::string::npos);
+  EXPECT_NE(html.find("turned-180 icp"), std::string::npos);
+  EXPECT_NE(html.find("0.930"), std::string::npos);
+  EXPECT_NE(html.find("two poses fit these scans"), std::string::npos);  // the picture's caption
+  EXPECT_EQ(DataImages(html), 1);
+  fs::remove_all(reg);
+}
+
+}  // namespace
+}  // namespace zeroreg

@@ -25,6 +25,9 @@ enum class CostClass {
   kExtra = 2,       // other estimators and features: clique on the same matches, FPFH, centroids
   kTurned = 3,      // three more feature extractions per view (cached per scan), one matching
   kPrior = 4,       // ICP from the caller's motion prior: no correspondence pins it
+  // Asked only by the ambiguity test, for a second pose away from a valid one (PairInputs::first):
+  // turns of it, then ICP.
+  kSecondPose = 5,
 };
 
 // What a source reads of the pair (its `needs` says which parts).
@@ -67,6 +70,8 @@ struct PairInputs {
   WholeImageMatches* whole_image = nullptr;          // null or unavailable: no fallback features
   const RegistrationResult* method = nullptr;        // the method's objects and object matches
   const PipelineConfig* method_effective = nullptr;  // the method's thresholds (Table 4 row b)
+  // kSecondPose: the valid result a second pose is sought away from.
+  const RegistrationResult* first = nullptr;
 };
 
 class PoseSource {

@@ -8,6 +8,7 @@ std::unique_ptr<PoseSource> MakeWholeImageSource();
 std::unique_ptr<PoseSource> MakeGeometrySource();
 std::unique_ptr<PoseSource> MakeCentroidSource();
 std::unique_ptr<PoseSource> MakeTurnedImagesSource();
+std::vector<std::unique_ptr<PoseSource>> MakeTurnedPoseSources();
 
 std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost) {
   std::vector<std::unique_ptr<PoseSource>> out;
@@ -20,6 +21,8 @@ std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost) {
     out.push_back(MakeTurnedImagesSource());
   } else if (cost == CostClass::kPrior) {
     out.push_back(MakePriorSource());
+  } else if (cost == CostClass::kSecondPose) {
+    out = MakeTurnedPoseSources();
   }
   return out;
 }
