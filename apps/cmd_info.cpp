@@ -158,9 +158,11 @@ Runner AddInfoCommand(CLI::App& app) {
         // ICP decides in working units, where a reads k times larger.
         const bool coarser =
             config.refine.pixel_stride == 0 && scan.points.empty() && *a * k > kNoisyDepthAt1mM;
-        std::printf("  depth noise of the scan (median of its views): %.2f mm at 1 m%s\n",
-                    *a * 1000.0,
-                    coarser ? " (noisier than 3 mm: ICP samples the coarser grid)" : "");
+        std::printf(
+            "  depth noise of the scan (median of its views): %.2f mm at 1 m%s\n", *a * 1000.0,
+            !coarser   ? ""
+            : k == 1.0 ? " (noisier than 3 mm: ICP samples the coarser grid)"
+                       : " (noisier than 3 mm at the working scale: ICP samples the coarser grid)");
       }
       // The scale every length of the config is read at (docs/CONFIG.md, "Any scale").
       if (const std::optional<double> d = distance) {

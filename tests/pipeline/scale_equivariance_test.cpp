@@ -106,6 +106,24 @@ TEST(ScaleEquivariance, RoomLengthsFailTheSmallCopy) {
   EXPECT_FALSE(r.valid && right) << r.reason;
 }
 
+// Scans prepared one by one get their own working scale (the kitchen at s = 0.25: frame 0 is seen
+// from 0.47 m, k = 0.5, frame 60 from 0.42 m, k = 0.42); a pair registers both at the pair's
+// (0.42), preparing again the one whose own differs: the same result as registering the two
+// scans at once.
+TEST(ScaleEquivariance, PreparedScansMeetAtThePairsScale) {
+  const Scan source = Scaled(Frame(60), 0.25), target = Scaled(Frame(0), 0.25);
+  const Pipeline pipeline{PipelineConfig{}};
+  const PreparedScan s = pipeline.Prepare(source, /*as_target=*/false);
+  const PreparedScan t = pipeline.Prepare(target);
+  EXPECT_EQ(s.scan().views[0].depth.data, source.views[0].depth.data);  // the scan as given
+  const RegistrationResult prepared = pipeline.Register(s, t);
+  const RegistrationResult direct = pipeline.Register(source, target);
+  EXPECT_TRUE(direct.valid) << direct.reason;
+  EXPECT_EQ(prepared.valid, direct.valid);
+  EXPECT_EQ(prepared.path, direct.path);
+  EXPECT_TRUE(prepared.T_target_source == direct.T_target_source);
+}
+
 // A phone's frames: portrait (the landscape frame turned a quarter turn, intrinsics with it),
 // depth from a 256x192 sensor upsampled to the colour size, and the scene seen from 12-25 cm
 // (the kitchen at s = 0.1: every reading below the earlier 0.3 m cut-offs).
