@@ -1,6 +1,10 @@
 // Configuration: one plain struct per stage, nested in PipelineConfig. Every field has a default
 // that follows from the method or from units; the JSON keys are the field names (see
-// docs/CONFIG.md). The effective config is written into every result.
+// docs/CONFIG.md). The effective config is written into every result. Units: every field ending in
+// _m is a length in metres at room scale, multiplied by the pair's working scale (ScaleConfig:
+// 1 for scenes seen from 1-5 m, smaller closer, larger farther; the depth-noise coefficients
+// *_at_1m_m, metres at 1 m, are divided by it); _px fields and pixel strides are pixels (strides
+// follow the image size); everything else is a count, fraction or ratio.
 #pragma once
 
 #include <cstdint>
