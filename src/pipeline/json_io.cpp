@@ -560,7 +560,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"valid", r.valid},
          {"outside_prior", r.outside_prior},
          {"reason", r.reason},
-         {"path", r.path},
+         {"path", PathName(r.path)},
          {"counts",
           {{"keypoints_source", r.num_keypoints_source},
            {"keypoints_target", r.num_keypoints_target},
