@@ -8,6 +8,7 @@
 #include "commands.hpp"
 #include "config_options.hpp"
 #include "estimate/depth_noise.hpp"
+#include "estimate/working_scale.hpp"
 #include "inference/onnx_model.hpp"
 #include "io/text_parsing.hpp"
 #include "open3d_module/open3d_module.hpp"
@@ -151,12 +152,33 @@ Runner AddInfoCommand(CLI::App& app) {
       }
       // ICP's auto grid decides on the scan's median (RefineConfig::pixel_stride); a scan with a
       // point cloud (a fragment) gives ICP that cloud instead of its depth pixels.
+      const std::optional<double> distance = WorkingDistance(scan);
+      const double k = WorkingScale(distance, config.scale);
       if (const std::optional<double> a = MeasureDepthNoiseAt1m(scan)) {
+        // ICP decides in working units, where a reads k times larger.
         const bool coarser =
-            config.refine.pixel_stride == 0 && scan.points.empty() && *a > kNoisyDepthAt1mM;
-        std::printf("  depth noise of the scan (median of its views): %.2f mm at 1 m%s\n",
-                    *a * 1000.0,
-                    coarser ? " (noisier than 3 mm: ICP samples the coarser grid)" : "");
+            config.refine.pixel_stride == 0 && scan.points.empty() && *a * k > kNoisyDepthAt1mM;
+        std::printf(
+            "  depth noise of the scan (median of its views): %.2f mm at 1 m%s\n", *a * 1000.0,
+            !coarser   ? ""
+            : k == 1.0 ? " (noisier than 3 mm: ICP samples the coarser grid)"
+                       : " (noisier than 3 mm at the working scale: ICP samples the coarser grid)");
+      }
+      // The scale every length of the config is read at (docs/CONFIG.md, "Any scale").
+      if (const std::optional<double> d = distance) {
+        std::printf("  working distance %.3g m (median valid depth)", *d);
+        if (const std::optional<double> a = MeasureDepthNoiseAt1m(scan)) {
+          std::printf(", depth noise %.2g mm there, pixel footprint %.2g mm", *a * *d * *d * 1e3,
+                      *d / scan.views.front().intrinsics.fx * 1e3);
+        }
+        if (k == 1.0) {
+          std::printf("; working scale 1: the config's lengths apply as written\n");
+        } else {
+          std::printf(
+              "; working scale %.3g: every length of the config is multiplied by it "
+              "(RANSAC inlier distance %.3g m, ICP final gate %.3g m)\n",
+              k, k * config.ransac.inlier_threshold_m, k * config.refine.max_distance_final_m);
+        }
       }
     }
     std::printf("effective config:\n%s\n", detail::DumpJson(ConfigToJson(config), 2).c_str());

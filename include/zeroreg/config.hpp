@@ -1,6 +1,10 @@
 // Configuration: one plain struct per stage, nested in PipelineConfig. Every field has a default
 // that follows from the method or from units; the JSON keys are the field names (see
-// docs/CONFIG.md). The effective config is written into every result.
+// docs/CONFIG.md). The effective config is written into every result. Units: every field ending in
+// _m is a length in metres at room scale, multiplied by the pair's working scale (ScaleConfig:
+// 1 for scenes seen from 1-5 m, smaller closer, larger farther; the depth-noise coefficients
+// *_at_1m_m, metres at 1 m, are divided by it); _px fields and pixel strides are pixels (strides
+// follow the image size); everything else is a count, fraction or ratio.
 #pragma once
 
 #include <cstdint>
@@ -680,6 +684,26 @@ struct AmbiguityConfig {
   double min_score_fraction = 0.3;
 };
 
+// The working scale (src/estimate/working_scale.hpp, docs/CONFIG.md "Any scale"). Every length
+// in this config (unit metres, names ending in _m) is a length at room scale: the defaults were
+// measured on rooms seen from 0.5-5 m. Where the cameras of a pair saw at a median distance
+// outside [room_min_m, room_max_m], the pipeline works in units of k metres, k = that distance /
+// the nearer end of the range (in quarter octaves), so every length below is multiplied by k and
+// the depth-noise coefficients (metres at 1 m) divided by it. Inside the range k = 1 and every
+// length is the metres written here.
+struct ScaleConfig {
+  bool automatic = true;  // false: k = 1 whatever the depth (every length as written)
+  // The working distances (median valid depth of a scan's views, metres) the defaults were
+  // measured on; a pair's distance is the geometric mean of its two scans'. Every frame of the
+  // shipped scenes lies within it (measured on all of them: 7-Scenes redkitchen 1.18-2.45 m,
+  // HoloLens office 1.29-4.74 m, TUM cabinet 1.21-1.68 m; the 3DMatch fragments' views are
+  // redkitchen frames), so k = 1 on every list and every default is what it was measured as.
+  double room_min_m = 1.0;
+  double room_max_m = 5.0;
+  // > 0: the working distance of every scan, instead of measuring it (metres).
+  double working_distance_m = 0.0;
+};
+
 struct PipelineConfig {
   FeatureConfig features;
   MatchConfig match;
@@ -697,6 +721,7 @@ struct PipelineConfig {
   MethodConfig method;
   HypothesesConfig hypotheses;
   AmbiguityConfig ambiguity;
+  ScaleConfig scale;
   // Every random step derives its seed from this one (RANSAC, the object matcher's random starts,
   // GrabCut's GMM initialisation); there is no other seed setting.
   std::uint64_t seed = 0;

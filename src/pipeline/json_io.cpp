@@ -255,6 +255,13 @@ void Visit(V& v, AmbiguityConfig& c) {
   v("min_score_fraction", c.min_score_fraction, Fraction());
 }
 template <typename V>
+void Visit(V& v, ScaleConfig& c) {
+  v("automatic", c.automatic);
+  v("room_min_m", c.room_min_m, Positive());
+  v("room_max_m", c.room_max_m, Positive());
+  v("working_distance_m", c.working_distance_m, AtLeast(0));
+}
+template <typename V>
 void Visit(V& v, PipelineConfig& c) {
   v.Section("method", c.method);
   v.Section("features", c.features);
@@ -272,6 +279,7 @@ void Visit(V& v, PipelineConfig& c) {
   v.Section("verify", c.verify);
   v.Section("hypotheses", c.hypotheses);
   v.Section("ambiguity", c.ambiguity);
+  v.Section("scale", c.scale);
   v("seed", c.seed);
   v("assets_dir", c.assets_dir);
   v("threads", c.threads, Between(1, 64));
@@ -469,6 +477,11 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
                          "\"sam\" (it pools SAM's image embedding), but the segmenter is "
                          "\"" +
                              c.segmenter.backend + "\"");
+  }
+  if (!(c.scale.room_min_m <= c.scale.room_max_m)) {
+    throw MakeInputError(where, "scale.room_min_m (" + FormatNumber(c.scale.room_min_m) +
+                                    ") must not exceed scale.room_max_m (" +
+                                    FormatNumber(c.scale.room_max_m) + ")");
   }
   if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
     throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +

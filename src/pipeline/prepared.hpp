@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "estimate/icp.hpp"
@@ -18,7 +19,12 @@ namespace zeroreg {
 
 struct PreparedScan::Data {
   std::uint64_t pipeline_id = 0;  // the Pipeline that made it (its config decided all of it)
+  // The scan in working units (src/estimate/working_scale.hpp): lengths divided by
+  // working_scale; the scan as given when that is 1.
   Scan scan;
+  double working_scale = 1.0;
+  std::optional<double> working_distance_m;        // the scan's median valid depth (metres)
+  std::shared_ptr<const Scan> original;            // the scan as given, when working_scale != 1
   std::shared_ptr<const PerceivedScan> perceived;  // features, detections, masks, objects
   std::vector<SurfacePoint> surface;               // verification samples (verify.enabled)
   IcpGeometry icp;                                 // ICP clouds per resolution (refine.enabled)

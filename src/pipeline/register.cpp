@@ -15,6 +15,7 @@
 #include "estimate/icp.hpp"
 #include "estimate/max_clique.hpp"
 #include "estimate/rigid_ransac.hpp"
+#include "estimate/working_scale.hpp"
 #include "eval/metrics.hpp"
 #include "features/feature_extractor.hpp"
 #include "inference/onnx_model.hpp"
@@ -45,7 +46,7 @@ const PreparedScan::Data* PreparedScanData(const PreparedScan& prepared) {
 }
 const Scan& PreparedScan::scan() const {
   if (!data_) throw std::logic_error("PreparedScan::scan() called on an empty prepared scan");
-  return data_->scan;
+  return data_->original ? *data_->original : data_->scan;
 }
 const std::vector<StageTime>& PreparedScan::timings() const {
   static const std::vector<StageTime> kNone;
@@ -180,6 +181,59 @@ void CheckPrior(const std::optional<MotionPrior>& prior) {
   }
 }
 
+// The result of a registration made in working units of k metres (src/estimate/working_scale.hpp)
+// in metres: every transform's translation and every length multiplied by k. The reason's
+// prose keeps the working units and says so.
+void ResultInMetres(double k, const std::optional<MotionPrior>& prior, RegistrationResult* r) {
+  if (k == 1.0) return;
+  r->T_target_source.topRightCorner<3, 1>() *= k;
+  for (CandidateSummary& c : r->candidates) c.T_target_source.topRightCorner<3, 1>() *= k;
+  for (Correspondence& c : r->correspondences) {
+    c.source *= k;
+    c.target *= k;
+  }
+  for (auto* objects : {&r->source_objects, &r->target_objects}) {
+    for (ObjectSummary& o : *objects) {
+      o.centroid *= k;
+      for (Eigen::Vector3d& p : o.points) p *= k;
+    }
+  }
+  r->inlier_rmse *= k;
+  r->inlier_spread_m *= k;
+  r->verification.residual_rms_m *= k;
+  switch (r->refusal.test) {
+    case RefusalTest::kInliersOnALine:
+    case RefusalTest::kAnotherPosePasses:
+      r->refusal.measured *= k;
+      r->refusal.threshold *= k;
+      break;
+    case RefusalTest::kOutsidePrior:
+      // Metres when the rotation was within the prior (the threshold is then the working prior's
+      // translation tolerance); degrees are the same at any scale.
+      if (prior && r->refusal.threshold != prior->max_rotation_deg &&
+          r->refusal.threshold == prior->max_translation_m / k) {
+        r->refusal.measured *= k;
+        r->refusal.threshold = prior->max_translation_m;
+      }
+      break;
+    default:
+      break;
+  }
+  char note[160];
+  std::snprintf(note, sizeof(note),
+                " [working scale %.3g: the lengths above are in units of %.3g m]", k, k);
+  r->reason += note;
+}
+
+// The prior in working units of k metres.
+std::optional<MotionPrior> PriorInWorkingUnits(const std::optional<MotionPrior>& prior, double k) {
+  if (!prior || k == 1.0) return prior;
+  MotionPrior p = *prior;
+  p.T_target_source.topRightCorner<3, 1>() /= k;
+  p.max_translation_m /= k;
+  return p;
+}
+
 std::atomic<std::uint64_t> g_next_pipeline_id{1};
 
 }  // namespace
@@ -202,10 +256,21 @@ struct Pipeline::Impl {
 
   // Prepare without the input check (the caller made it, naming the scan's role). A scan that
   // will only be a source (Register(scan, scan)) skips what only a target needs (ICP normals).
-  std::shared_ptr<const Prepared> PrepareChecked(const Scan& scan, bool as_target = true) const {
+  // `k`: the working scale to prepare at (a pair's); unset: the scan's own.
+  std::shared_ptr<const Prepared> PrepareChecked(const Scan& given, bool as_target = true,
+                                                 std::optional<double> k = std::nullopt,
+                                                 std::optional<double> distance_m = {}) const {
     auto p = std::make_shared<Prepared>();
     p->pipeline_id = id;
-    p->scan = scan;
+    p->working_distance_m = distance_m ? distance_m : WorkingDistance(given);
+    p->working_scale = k ? *k : WorkingScale(p->working_distance_m, config.scale);
+    if (p->working_scale != 1.0) {
+      p->original = std::make_shared<const Scan>(given);
+      p->scan = InWorkingUnits(given, p->working_scale);
+    } else {
+      p->scan = given;
+    }
+    const Scan& scan = p->scan;
     StageTimer perceive_timer, geometry_timer;
     const auto perceive = [&] {
       p->perceived = std::make_shared<const PerceivedScan>(
@@ -248,6 +313,27 @@ struct Pipeline::Impl {
                                       const std::shared_ptr<const Prepared>& target_ptr,
                                       const std::optional<MotionPrior>& prior,
                                       StageTimer& timer) const;
+
+  // Both scans at the pair's working scale: a scan prepared at another (its own) is prepared
+  // again from the scan as given. Inside the rooms' range both are 1 and nothing is redone.
+  RegistrationResult RegisterAtPairScale(std::shared_ptr<const Prepared> source,
+                                         std::shared_ptr<const Prepared> target,
+                                         const std::optional<MotionPrior>& prior,
+                                         StageTimer& timer) const {
+    const double k = WorkingScale(
+        PairWorkingDistance(source->working_distance_m, target->working_distance_m), config.scale);
+    const auto at_k = [&](std::shared_ptr<const Prepared>& p, bool as_target) {
+      if (p->working_scale == k) return;
+      p = PrepareChecked(p->original ? *p->original : p->scan, as_target, k, p->working_distance_m);
+      for (const StageTime& st : p->timings) timer.Add(st.stage, st.ms);
+    };
+    at_k(source, /*as_target=*/false);
+    at_k(target, /*as_target=*/true);
+    RegistrationResult result =
+        RegisterPrepared(source, target, PriorInWorkingUnits(prior, k), timer);
+    ResultInMetres(k, prior, &result);
+    return result;
+  }
 };
 
 Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>()) {
@@ -347,7 +433,7 @@ RegistrationResult Pipeline::Register(const PreparedScan& source, const Prepared
   impl_->Check(target.data_, "target");
   CheckPrior(prior);
   StageTimer timer;
-  RegistrationResult result = impl_->RegisterPrepared(source.data_, target.data_, prior, timer);
+  RegistrationResult result = impl_->RegisterAtPairScale(source.data_, target.data_, prior, timer);
   result.timings = timer.times();
   result.timings.push_back({"total", MillisecondsSince(start)});
   return result;
@@ -361,17 +447,23 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target,
   CheckPrior(prior);
   // The two scans' perception is independent: with two threads each scan is prepared on its own
   // (the models serialise their inference, so one scan's detector overlaps the other's features).
+  // One working scale for both scans, from both (src/estimate/working_scale.hpp).
+  const std::optional<double> source_distance = WorkingDistance(source);
+  const std::optional<double> target_distance = WorkingDistance(target);
+  const double k =
+      WorkingScale(PairWorkingDistance(source_distance, target_distance), impl_->config.scale);
   std::shared_ptr<const Prepared> s, t;
   RunBoth(
-      impl_->config.threads >= 2, [&] { s = impl_->PrepareChecked(source, /*as_target=*/false); },
-      [&] { t = impl_->PrepareChecked(target); });
+      impl_->config.threads >= 2,
+      [&] { s = impl_->PrepareChecked(source, /*as_target=*/false, k, source_distance); },
+      [&] { t = impl_->PrepareChecked(target, /*as_target=*/true, k, target_distance); });
   StageTimer timer;
   // Per-scan stages first, summed over both scans (when they ran at once they add up to more
   // than the wall time), then the per-pair stages; "total" is the wall time of the call.
   for (const Prepared* p : {s.get(), t.get()}) {
     for (const StageTime& st : p->timings) timer.Add(st.stage, st.ms);
   }
-  RegistrationResult result = impl_->RegisterPrepared(s, t, prior, timer);
+  RegistrationResult result = impl_->RegisterAtPairScale(s, t, prior, timer);
   result.timings = timer.times();
   result.timings.push_back({"total", MillisecondsSince(start)});
   return result;

@@ -104,5 +104,28 @@ TEST(CliInfo, DamagedAssetsAreNamedOneByOne) {
   EXPECT_EQ(r.output.find("sha256 ok"), std::string::npos) << r.output;
 }
 
+// With a scan, info says at which scale it will be registered (docs/CONFIG.md, "Any scale"): the
+// kitchen frame as it is (a room: the config's lengths as written) and read with ten times the
+// depth units (the same frame as a scene seen from 12-25 cm).
+TEST(CliInfo, ScanSaysItsWorkingDistanceAndScale) {
+  const std::string frame = testing::RedkitchenDir() + "/frames/frame-000000";
+  const auto room = RunCli("info --scan '" + testing::RedkitchenDir() + "@0'");
+  ASSERT_EQ(room.exit_code, 0) << room.output;
+  EXPECT_NE(room.output.find("working distance 1.88 m"), std::string::npos) << room.output;
+  EXPECT_NE(room.output.find("working scale 1: the config's lengths apply as written"),
+            std::string::npos)
+      << room.output;
+  const fs::path dir = testing::FreshTestDir("zeroreg_info_scale_");
+  const fs::path descriptor = dir / "near.json";
+  std::ofstream(descriptor) << R"({"views": [{"color": ")" << frame << R"(.color.jpg", "depth": ")"
+                            << frame << R"(.depth.png", "depth_scale": 10000,
+      "intrinsics": {"fx": 585, "fy": 585, "cx": 320, "cy": 240}}]})";
+  const auto near = RunCli("info --scan '" + descriptor.string() + "'");
+  ASSERT_EQ(near.exit_code, 0) << near.output;
+  EXPECT_NE(near.output.find("working distance 0.188 m"), std::string::npos) << near.output;
+  EXPECT_NE(near.output.find("working scale 0.177"), std::string::npos) << near.output;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace zeroreg

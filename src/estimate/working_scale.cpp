@@ -1,0 +1,63 @@
+#include "estimate/working_scale.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "estimate/lift.hpp"
+
+namespace zeroreg {
+
+std::optional<double> WorkingDistance(const Scan& scan) {
+  std::vector<float> depths;
+  for (const View& view : scan.views) {
+    const cv::Mat& depth = view.depth;
+    if (depth.empty() || depth.type() != CV_32FC1) continue;
+    const int stride = PixelGrid{}.StrideFor(depth.cols);
+    for (int y = stride / 2; y < depth.rows; y += stride) {
+      const float* row = depth.ptr<float>(y);
+      for (int x = stride / 2; x < depth.cols; x += stride) {
+        if (row[x] > 0 && std::isfinite(row[x])) depths.push_back(row[x]);
+      }
+    }
+  }
+  if (depths.empty()) return std::nullopt;
+  const auto middle = depths.begin() + static_cast<std::ptrdiff_t>(depths.size() / 2);
+  std::nth_element(depths.begin(), middle, depths.end());
+  return static_cast<double>(*middle);
+}
+
+double WorkingScale(std::optional<double> distance_m, const ScaleConfig& config) {
+  if (!config.automatic) return 1.0;
+  if (config.working_distance_m > 0) distance_m = config.working_distance_m;
+  if (!distance_m || !(*distance_m > 0)) return 1.0;
+  double ratio = 1.0;
+  if (*distance_m < config.room_min_m) ratio = *distance_m / config.room_min_m;
+  if (*distance_m > config.room_max_m) ratio = *distance_m / config.room_max_m;
+  // Quarter octaves: log2 rounded to quarters. Just outside the range the ratio rounds to 1.
+  const double quarters = std::round(4.0 * std::log2(ratio));
+  return quarters == 0 ? 1.0 : std::exp2(quarters / 4.0);
+}
+
+std::optional<double> PairWorkingDistance(std::optional<double> source_m,
+                                          std::optional<double> target_m) {
+  if (source_m && target_m) return std::sqrt(*source_m * *target_m);
+  return source_m ? source_m : target_m;
+}
+
+Scan InWorkingUnits(const Scan& scan, double k) {
+  Scan out = scan;
+  if (k == 1.0) return out;
+  const double inverse = 1.0 / k;
+  for (View& view : out.views) {
+    view.depth = view.depth.clone();
+    view.depth *= inverse;  // 0 (invalid) stays 0
+    view.T_scan_camera.topRightCorner<3, 1>() *= inverse;
+    if (view.T_world_camera_gt) view.T_world_camera_gt->topRightCorner<3, 1>() *= inverse;
+  }
+  for (Eigen::Vector3d& p : out.points) p *= inverse;
+  if (out.T_world_scan_gt) out.T_world_scan_gt->topRightCorner<3, 1>() *= inverse;
+  return out;
+}
+
+}  // namespace zeroreg
