@@ -231,7 +231,8 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::error_code ec;
   if (dir.empty() || !fs::is_directory(fs::symlink_status(dir, ec))) return found;
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification|hypotheses)-view([0-9]+)(?:-([0-9]+))?\\.("
+      "(objects|correspondences|registered|verification|hypotheses|synthesized)-view([0-9]+)(?:-(["
+      "0-9]+))?\\.("
       "png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
@@ -261,6 +262,10 @@ std::string PictureCaption(const std::string& kind) {
   if (kind == "verification") {
     return "geometric check in the target view (green: surfaces agree, red: source in the target "
            "camera's free space, yellow: hidden behind)";
+  }
+  if (kind == "synthesized") {
+    return "view synthesis: the source image beside the target rendered from the virtual camera "
+           "whose matches registered it (inliers green, outliers red)";
   }
   if (kind == "hypotheses") {
     return "the candidate transforms the check judged: the chosen one first, then the runners-up "
