@@ -595,6 +595,9 @@ struct HypothesesConfig {
   bool view_synthesis = true;
   // (f) renders and matches at most this many candidates' cameras (plus one iteration).
   int synthesis_max_cameras = 4;
+  // (f) the fixed set of swung target cameras is rendered as well as the candidates' (false: only
+  // when no candidate gives a camera).
+  bool synthesis_orbits = false;
   // (f) a rendering covering less of the image than this is not matched (its features would be
   // few and on the holes' edges).
   double synthesis_min_covered = 0.15;

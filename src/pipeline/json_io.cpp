@@ -240,6 +240,7 @@ void Visit(V& v, HypothesesConfig& c) {
   v("turned_min_matches", c.turned_min_matches, AtLeast(0));
   v("view_synthesis", c.view_synthesis);
   v("synthesis_max_cameras", c.synthesis_max_cameras, AtLeast(1));
+  v("synthesis_orbits", c.synthesis_orbits);
   v("synthesis_min_covered", c.synthesis_min_covered, Fraction());
   v("estimator", c.estimator);
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());

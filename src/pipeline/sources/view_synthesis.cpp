@@ -126,7 +126,11 @@ class ViewSynthesisSource : public PoseSource {
       if (static_cast<int>(cameras.size()) >= h.synthesis_max_cameras) break;
       if (!at_target_camera(c.T_target_camera)) cameras.push_back(c);
     }
-    if (cameras.empty()) cameras = OrbitCameras(target, {-60, -30, 30, 60}, /*source_view=*/0);
+    if (cameras.empty() || h.synthesis_orbits) {
+      for (VirtualCamera& c : OrbitCameras(target, {-60, -30, 30, 60}, /*source_view=*/0)) {
+        cameras.push_back(std::move(c));
+      }
+    }
 
     const auto match = [&](const VirtualCamera& camera) {
       const auto v = static_cast<size_t>(camera.source_view);
