@@ -244,7 +244,7 @@ Runner AddRegisterCommand(CLI::App& app) {
                           {{"read_scans", read_ms}, {"load_models", models_ms}});
 
     std::printf("zeroreg register: %s -> %s\n", o->source.c_str(), o->target.c_str());
-    std::printf("T_target_source (%s path):\n", result.path.c_str());
+    std::printf("T_target_source (%s path):\n", PathName(result.path).c_str());
     PrintTransform(result.T_target_source);
     std::printf("verdict: %s (%s)\n", result.valid ? "VALID" : "FAILED", result.reason.c_str());
     std::printf("keypoints %d / %d, correspondences %d, inliers %d (ratio %.3f, rmse %.1f mm)\n",

@@ -177,6 +177,35 @@ const char* RefusalTestName(RefusalTest test);
 // One sentence made from the fields (empty for kNone).
 std::string DescribeRefusal(const Refusal& refusal);
 
+// Which source produced the transform (RegistrationResult::path). PathName makes the string the
+// JSON result, the eval records and Python carry ("object", "image clique", "prior icp").
+enum class PathSource {
+  kNone,             // "": nothing was estimated
+  kObject,           // "object": correspondences inside matched objects (paper §3.4)
+  kImage,            // "image": whole-image features (Table 4 row a; or the extra source)
+  kImageFallback,    // "image-fallback": the whole images instead of a failed object level
+  kImageRival,       // "image-rival": the whole images judged against a doubtful object estimate
+  kObjectCentroids,  // "object-centroids": the matched objects' centroids (Table 4 row b)
+  kObjectPairs,      // "object-pairs": every same-label object pair's centroids
+  kGeometry,         // "geometry": FPFH matches of the scans' depth
+  kImageTurned90,    // "image-turned-90": the source's images turned by a quarter turn
+  kImageTurned180,   // "image-turned-180"
+  kImageTurned270,   // "image-turned-270"
+  kPrior,            // "prior": ICP from the caller's MotionPrior
+};
+// The estimator an extra source names after its source ("image clique"); kMethod: the method's
+// own flow (ransac.estimator), whose path names none.
+enum class PathEstimator { kMethod, kRansac, kClique };
+struct Path {
+  PathSource source = PathSource::kNone;
+  PathEstimator estimator = PathEstimator::kMethod;
+  bool moved_by_icp = false;  // a source's starting pose moved by ICP ("prior icp")
+};
+bool operator==(const Path& a, const Path& b);
+inline bool operator!=(const Path& a, const Path& b) { return !(a == b); }
+// The path's name, e.g. "object", "image-turned-180 ransac", "prior icp" ("" for kNone).
+std::string PathName(const Path& path);
+
 struct RegistrationResult {
   Transform T_target_source = Transform::Identity();
   bool valid = false;
@@ -185,7 +214,7 @@ struct RegistrationResult {
   bool outside_prior = false;
   std::string reason;  // why valid is false (or a short summary when true)
   Refusal refusal;     // the test that refused it, as data; test == kNone exactly when valid
-  std::string path;    // which correspondence source produced the transform, e.g. "image"
+  Path path;           // which source produced the transform (PathName: e.g. "image")
   int num_keypoints_source = 0;
   int num_keypoints_target = 0;
   int num_correspondences = 0;  // 3D correspondences given to the estimator

@@ -648,7 +648,7 @@ py::dict Counts(const RegistrationResult& r) {
 
 std::string Repr(const RegistrationResult& r) {
   std::ostringstream s;
-  s << "<zeroreg.Result " << (r.valid ? "valid" : "FAILED") << " path=" << r.path
+  s << "<zeroreg.Result " << (r.valid ? "valid" : "FAILED") << " path=" << PathName(r.path)
     << " inliers=" << r.num_inliers << "/" << r.num_correspondences << " reason='" << r.reason
     << "'>";
   return s.str();
@@ -721,8 +721,10 @@ void BindResult(py::module_& m) {
           },
           "None when valid; else a dict: test (e.g. 'few_inliers', 'low_overlap', "
           "'outside_prior'), measured, threshold (units: RefusalTest in zeroreg/types.hpp).")
-      .def_readonly("path", &RegistrationResult::path,
-                    "Which correspondence source produced the transform, e.g. 'image'.")
+      .def_property_readonly(
+          "path", [](const RegistrationResult& r) { return PathName(r.path); },
+          "Which source produced the transform (str), e.g. 'object', 'image-fallback', "
+          "'geometry clique', 'prior icp'; the JSON result's 'path'.")
       .def_property_readonly("counts", &Counts,
                              "keypoints_source/target, correspondences, inliers, "
                              "ransac_iterations.")

@@ -89,16 +89,16 @@ class ZeroregMethod : public PairMethod {
   MethodOutput Output(RegistrationResult r, size_t views_source, size_t views_target,
                       bool with_prior) const {
     const bool from_prior = with_prior && ComesFromMotionPrior(r);
-    if (require_image_path_ && r.path != "image" && !from_prior) {
+    if (require_image_path_ && r.path != Path{PathSource::kImage} && !from_prior) {
       // A stale ImagePathOverrides() would silently evaluate the wrong method.
-      throw std::logic_error("--method image: the pipeline used the '" + r.path +
+      throw std::logic_error("--method image: the pipeline used the '" + PathName(r.path) +
                              "' path; update ImagePathOverrides() in src/eval/methods.cpp");
     }
     MethodOutput out;
     out.T_target_source = r.T_target_source;
     out.valid = r.valid;
     out.reason = r.reason;
-    out.path = r.path;
+    out.path = PathName(r.path);
     out.correspondences = std::move(r.correspondences);
     out.num_inliers = r.num_inliers;
     for (const ObjectSummary& o : r.source_objects) {

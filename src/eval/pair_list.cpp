@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/shown.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/assets.hpp"
 #include "zeroreg/error.hpp"
@@ -53,7 +54,8 @@ std::vector<ListedPair> ReadListedPairs(const std::string& path, std::string* sc
       if (colon == std::string::npos) continue;
       const std::string key = Trim(body.substr(0, colon)), value = Trim(body.substr(colon + 1));
       if (key == "kind" && value != "frames") {
-        throw MakeInputError(where, "'" + line + "': this list holds '" + value +
+        throw MakeInputError(where, "'" + detail::ShownText(line) + "': this list holds '" +
+                                        detail::ShownText(value) +
                                         "' pairs; eval pairs --list reads frame pairs "
                                         "(\"# kind: frames\")");
       }
@@ -65,7 +67,7 @@ std::vector<ListedPair> ReadListedPairs(const std::string& path, std::string* sc
     std::string rest;
     if (!(fields >> i >> j) || (fields >> rest) || i < 0 || j < 0 || i > 1000000000 ||
         j > 1000000000) {
-      throw MakeInputError(where, "'" + line +
+      throw MakeInputError(where, "'" + detail::ShownText(line) +
                                       "'; expected two non-negative integers \"i j\" "
                                       "(target frame i, source frame j) or a '#' comment");
     }

@@ -6,6 +6,7 @@
 #include <map>
 #include <sstream>
 
+#include "io/shown.hpp"
 #include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
@@ -103,8 +104,9 @@ std::vector<std::pair<int, int>> ReadPairsFile(const std::string& path) {
     std::string rest;
     if (!(fields >> i >> j) || (fields >> rest) || i < 0 || j < 0 || i > 1000000000 ||
         j > 1000000000) {
-      throw MakeInputError(path + " line " + std::to_string(number),
-                           "'" + line + "'; expected two non-negative integers \"i j\"");
+      throw MakeInputError(
+          path + " line " + std::to_string(number),
+          "'" + detail::ShownText(line) + "'; expected two non-negative integers \"i j\"");
     }
     pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
   }

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "io/image_codec.hpp"
+#include "io/image_file.hpp"
 #include "io/text_parsing.hpp"
 #include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
@@ -118,6 +119,14 @@ void CheckFuseConfig(const FuseConfig& c) {
   if (c.num_views < 1) {
     throw MakeInputError("--views", "is " + std::to_string(c.num_views) +
                                         "; expected at least 1 view kept with the fragment");
+  }
+  // A fragment with more views than a scan.json may hold could be written but never read back.
+  const size_t max_views = detail::MaxViewsPerScan();
+  if (static_cast<size_t>(c.num_views) > max_views) {
+    throw MakeInputError("--views", "is " + std::to_string(c.num_views) + "; expected at most " +
+                                        std::to_string(max_views) +
+                                        ", the most views a scan.json is read with "
+                                        "(ZEROREG_MAX_VIEWS raises it)");
   }
   if (!(c.sdf_trunc_m > 0) || !(c.max_depth_m > 0) || !(c.output_voxel_m >= 0) ||
       !std::isfinite(c.sdf_trunc_m + c.max_depth_m + c.output_voxel_m)) {

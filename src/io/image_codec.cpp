@@ -15,6 +15,8 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "io/text_parsing.hpp"
+
 namespace zeroreg::detail {
 namespace {
 
@@ -323,10 +325,10 @@ bool WriteImageFile(const std::string& path, const cv::Mat& image) {
   } catch (const std::exception&) {
     return false;
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()),
-            static_cast<std::streamsize>(bytes.size()));
-  return static_cast<bool>(out);
+  // Through a temporary file and a rename: a full disk leaves the previous picture, not half of
+  // the new one, and the InputError says why.
+  WriteFileAtomically(path, std::string(bytes.begin(), bytes.end()));
+  return true;
 }
 
 }  // namespace zeroreg::detail

@@ -42,7 +42,8 @@ std::vector<std::uint8_t> EncodePng(const cv::Mat& image);
 std::vector<std::uint8_t> EncodeJpeg(const cv::Mat& image, int quality);
 
 // Writes `image` to `path` as PNG, or as JPEG (quality 95) when the name ends in .jpg / .jpeg.
-// Returns false when the file cannot be written or the image type is not supported.
+// The file is replaced atomically (WriteFileAtomically: InputError with the system's reason when it
+// cannot be written). Returns false when the image type cannot be encoded.
 bool WriteImageFile(const std::string& path, const cv::Mat& image);
 
 }  // namespace zeroreg::detail

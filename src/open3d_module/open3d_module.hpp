@@ -22,7 +22,7 @@ namespace zeroreg::open3d_module {
 
 // Bumped whenever a signature or struct below changes: a module built from other sources is
 // refused with a message instead of being called with the wrong layout.
-constexpr int kAbiVersion = 1;
+constexpr int kAbiVersion = 2;
 
 // FPFH (Rusu et al., ICRA 2009) of a cloud: voxel down-sampling, normals (hybrid search), then
 // one 33-bin histogram per kept point (features/fpfh.hpp names these zeroreg::FpfhParams and
@@ -70,13 +70,50 @@ struct RgbdFrame {
   Eigen::Matrix4d T_camera_volume = Eigen::Matrix4d::Identity();  // volume frame -> camera
 };
 
+// Open3D's point-to-plane ICP (RegistrationICP with TransformationEstimationPointToPlane) from
+// `init`, normals of the target estimated with a hybrid search, and the 6x6 information matrix of
+// the result (GetInformationMatrixFromPointClouds): the pair edge of Open3D's multiway
+// registration recipe.
+struct IcpRequest {
+  double max_distance_m = 0.075;
+  double normal_radius_m = 0.1;
+  int normal_max_nn = 30;
+  int max_iterations = 30;
+  Eigen::Matrix4d init = Eigen::Matrix4d::Identity();
+};
+struct IcpResult {
+  Eigen::Matrix4d T_target_source = Eigen::Matrix4d::Identity();
+  double fitness = 0.0;      // fraction of source points within max_distance_m of the target
+  double inlier_rmse = 0.0;  // metres
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();
+};
+
+// A pose graph for Open3D's GlobalOptimization (Levenberg-Marquardt with the line process of
+// Choi et al., CVPR 2015). Nodes are world_from_node poses; an edge's T_target_source maps the
+// source node's frame into the target node's. Uncertain edges (loop closures) get a line-process
+// weight, returned in `confidence`, and are pruned below the threshold (`pruned` set).
+struct PoseGraphEdge {
+  int source = 0, target = 0;
+  Eigen::Matrix4d T_target_source = Eigen::Matrix4d::Identity();
+  Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Identity();
+  bool uncertain = false;
+  double confidence = 1.0;
+  bool pruned = false;
+};
+struct PoseGraphOptions {
+  double max_correspondence_distance_m = 0.075;
+  double edge_prune_threshold = 0.25;
+  double preference_loop_closure = 1.0;
+  int reference_node = 0;
+};
+
 // What both sides' compilers made of the types above: the module must agree with its host on the
 // library ABI of std::string and std::vector and on Eigen's alignment, which the version number
 // alone does not say.
-constexpr std::size_t kLayout = sizeof(std::string) * 1000003u +
-                                sizeof(std::vector<double>) * 10007u +
-                                alignof(Eigen::Matrix4d) * 101u + sizeof(Eigen::MatrixXd) +
-                                sizeof(RgbdFrame) * 7u + sizeof(FeatureRansacResult) * 13u;
+constexpr std::size_t kLayout =
+    sizeof(std::string) * 1000003u + sizeof(std::vector<double>) * 10007u +
+    alignof(Eigen::Matrix4d) * 101u + sizeof(Eigen::MatrixXd) + sizeof(RgbdFrame) * 7u +
+    sizeof(FeatureRansacResult) * 13u + sizeof(IcpResult) * 17u + sizeof(PoseGraphEdge) * 19u;
 
 struct Api {
   int abi_version = 0;
@@ -100,6 +137,13 @@ struct Api {
                        std::vector<Eigen::Vector3d>* colors,
                        std::vector<Eigen::Vector3d>* normals) = nullptr;
   void (*tsdf_destroy)(void* volume) = nullptr;
+  void (*point_to_plane_icp)(const std::vector<Eigen::Vector3d>& source,
+                             const std::vector<Eigen::Vector3d>& target, const IcpRequest& request,
+                             IcpResult* out) = nullptr;
+  // Optimises `world_from_node` in place; edges get their confidence and pruned flag.
+  void (*optimize_pose_graph)(std::vector<Eigen::Matrix4d>* world_from_node,
+                              std::vector<PoseGraphEdge>* edges,
+                              const PoseGraphOptions& options) = nullptr;
 };
 
 // The module's one exported symbol.

@@ -84,7 +84,7 @@ RegistrationResult Arbiter::Decide(Proposal method, RegistrationResult scans) {
   const bool whole_image = pair_.whole_image != nullptr && pair_.whole_image->available();
   if (!held.result.valid && whole_image) {
     Instead(&held);
-  } else if (held.result.valid && held.result.path == "object" && whole_image &&
+  } else if (held.result.valid && held.result.path == Path{PathSource::kObject} && whole_image &&
              config.verify.enabled) {
     const Doubt doubt = DoubtOf(config, held);
     if (doubt.any(config)) Against(doubt, &held);
@@ -109,7 +109,7 @@ void Arbiter::Replace(Judged winner, Judged* held) {
 
 void Arbiter::Instead(Judged* held) {
   Proposal p;
-  p.path = "image-fallback";
+  p.path = {PathSource::kImageFallback};
   p.check_name = "image-fallback ransac";
   p.correspondences = pair_.whole_image->Get();
   p.effective = *pair_.method_effective;
@@ -135,7 +135,7 @@ void Arbiter::Against(const Doubt& doubt, Judged* held) {
   RegistrationResult& result = held->result;
   timer_.Restart();
   Proposal p;
-  p.path = "image-rival";
+  p.path = {PathSource::kImageRival};
   p.correspondences = pair_.whole_image->Get();
   p.effective = *pair_.method_effective;
   Judged judged = Ask(std::move(p));
@@ -150,15 +150,16 @@ void Arbiter::Against(const Doubt& doubt, Judged* held) {
   char line[240];
   std::snprintf(line, sizeof(line), "image-rival: %s, score %.3f, %.3f m RMS from %s",
                 rival.valid ? "valid" : "not valid", rival.verification.score, m.apart_m,
-                result.path.c_str());
+                PathName(result.path).c_str());
   char held_summary[120];
-  std::snprintf(held_summary, sizeof(held_summary), "%s: score %.3f", result.path.c_str(),
+  std::snprintf(held_summary, sizeof(held_summary), "%s: score %.3f", PathName(result.path).c_str(),
                 result.verification.score);
   char support[200];
   std::snprintf(support, sizeof(support),
                 "; inliers %d (%s) against %d (image-rival), %.3f m RMS apart over the source "
                 "surface",
-                result.num_inliers, result.path.c_str(), rival.num_inliers, m.apart_surface_m);
+                result.num_inliers, PathName(result.path).c_str(), rival.num_inliers,
+                m.apart_surface_m);
   const bool asked = doubt.degenerate || doubt.rescued || doubt.single;
   std::string shown_support = asked && win != RivalWin::kScore ? support : "";
   const char* why = nullptr;
@@ -243,7 +244,7 @@ void Arbiter::MoreSources(Judged* held) {
                               ? "not valid: another pose passes the check as well"
                               : "refused by the check";
     char line[200];
-    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", r.path.c_str(), verdict,
+    std::snprintf(line, sizeof(line), "%s: %s, score %.3f", PathName(r.path).c_str(), verdict,
                   r.verification.score);
     return std::string(line);
   };
@@ -257,7 +258,7 @@ void Arbiter::MoreSources(Judged* held) {
     summary += "; " + std::to_string(disagreeing) +
                " valid, higher-scoring, disagreeing with the method's valid estimate: not taken";
   }
-  result->reason += " [hypotheses: " + summary + "; chosen: " + result->path + "]";
+  result->reason += " [hypotheses: " + summary + "; chosen: " + PathName(result->path) + "]";
 }
 
 void Arbiter::FromPrior(Judged* held) {

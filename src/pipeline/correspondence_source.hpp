@@ -34,7 +34,7 @@ struct PerceivedScan {
 
 struct CorrespondenceSet {
   std::vector<Correspondence> correspondences;
-  std::string path;  // RegistrationResult::path; empty = the source's name()
+  PathSource path = PathSource::kNone;  // RegistrationResult::path; kNone = the source's own
   std::vector<ObjectMatchSummary> object_matches;
   // Parallel to object_matches: each match's §3.4 point matches, before overlapping masks are
   // deduplicated (empty for the centroid-only flow).
@@ -48,7 +48,7 @@ struct CorrespondenceSet {
 class CorrespondenceSource {
  public:
   virtual ~CorrespondenceSource() = default;
-  virtual std::string name() const = 0;  // recorded in RegistrationResult::path
+  virtual PathSource path() const = 0;  // recorded in RegistrationResult::path
   // Per-scan perception. Thread-safe: Pipeline::Register prepares its two scans concurrently (the
   // models serialise their own inference); the result depends on the scan and config only.
   virtual PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const = 0;

@@ -17,7 +17,7 @@ class ImageCorrespondenceSource : public CorrespondenceSource {
         lift_(lift),
         view_pairs_(view_pairs),
         threads_(threads) {}
-  std::string name() const override { return "image"; }
+  PathSource path() const override { return PathSource::kImage; }
   PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const override;
   CorrespondenceSet Find(const std::shared_ptr<const PerceivedScan>& source,
                          const std::shared_ptr<const PerceivedScan>& target,

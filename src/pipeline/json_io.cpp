@@ -65,7 +65,8 @@ std::string Describe(const Range& r, bool integer) {
 template <typename V>
 void Visit(V& v, FeatureConfig& c) {
   v("backend", c.backend);
-  v("max_keypoints", c.max_keypoints, AtLeast(1));
+  // Matching holds an n x m similarity of floats: 16384 keypoints a side are 1 GiB.
+  v("max_keypoints", c.max_keypoints, Iterations(1, 16384));
   v("xfeat_detection_threshold", c.xfeat_detection_threshold, Fraction());
   v("xfeat_keep_aspect", c.xfeat_keep_aspect);
   v("xfeat_square_input", c.xfeat_square_input);
@@ -550,7 +551,7 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"valid", r.valid},
          {"outside_prior", r.outside_prior},
          {"reason", r.reason},
-         {"path", r.path},
+         {"path", PathName(r.path)},
          {"counts",
           {{"keypoints_source", r.num_keypoints_source},
            {"keypoints_target", r.num_keypoints_target},

@@ -278,7 +278,7 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
     refined.verification =
         VerifyRegistration(source_.scan, source_.surface, target_.scan, target_.surface,
                            refined.T_target_source, pipeline.verify);
-    refined.candidates.push_back({r->path + " icp", refined.T_target_source,
+    refined.candidates.push_back({PathName(r->path) + " icp", refined.T_target_source,
                                   refined.verification.score, refined.verification.passed, false});
     r->candidates = refined.candidates;
     // A refinement keeps the evidence it started from: most of the correspondences that
@@ -396,7 +396,7 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
     Estimate(std::move(p.correspondences), e, &r);
     mark("estimate");
   }
-  Check(e, p.check_name.empty() ? p.path : p.check_name, &r);
+  Check(e, p.check_name.empty() ? PathName(p.path) : p.check_name, &r);
   ApplyPrior(&r);
   mark("verify");
   out.valid_before_icp = r.valid;
@@ -407,7 +407,7 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
   }
   ApplyPrior(&r);
   // A pose source's start moved by ICP is named so ("prior" -> "prior icp").
-  if (p.pose && r.T_target_source != *p.pose) r.path += " icp";
+  if (p.pose && r.T_target_source != *p.pose) r.path.moved_by_icp = true;
   const HypothesesConfig& h = config_.hypotheses;
   if (p.refuse_degenerate && r.valid && r.verification.degenerate) {
     r.valid = false;

@@ -36,7 +36,7 @@ struct KeptEvidence {
 // One proposal of a source: correspondences (or, for the motion prior, a pose) and how they are
 // to be judged.
 struct Proposal {
-  std::string path;        // RegistrationResult::path of the candidate it becomes
+  Path path;               // RegistrationResult::path of the candidate it becomes
   std::string check_name;  // the check's CandidateSummary name; empty = path
   std::vector<Correspondence> correspondences;
   std::optional<Transform> pose;  // a pose to start from instead of correspondences (the prior)

@@ -373,7 +373,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       result.object_matches.push_back({pair.source, pair.target, pair.node_similarity, 1});
       result.object_match_points.emplace_back();  // centroids only: no point matches
     }
-    result.path = "object-centroids";
+    result.path = PathSource::kObjectCentroids;
     return result;
   }
 
@@ -395,7 +395,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
     result.object_matches.push_back(summary);
     result.object_match_points.push_back(std::move(points));
   }
-  result.path = "object";
+  result.path = PathSource::kObject;
   timer.Mark("point_match");
 
   const DescriptorMatcher& matcher = matcher_;
@@ -412,7 +412,7 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       static_cast<int>(result.correspondences.size()) < config_.method.min_object_correspondences) {
     result.correspondences = result.whole_image_fallback();
     result.whole_image_fallback = nullptr;
-    result.path = "image-fallback";
+    result.path = PathSource::kImageFallback;
     timer.Mark("point_match");
   }
   return result;

@@ -6,7 +6,7 @@
 //   §3.4  inside every matched object pair and every view pair (view i with view i), match the
 //         features that fall inside the two masks (S = G_P G_Q^T, Eq. 3; dustbin, Eq. 4; Sinkhorn).
 // When the objects give too little (config.method), the same features are matched over the whole
-// image instead and the result records path = "image-fallback".
+// image instead and the result records path = PathSource::kImageFallback.
 #pragma once
 
 #include <memory>
@@ -29,7 +29,7 @@ class ObjectCorrespondenceSource : public CorrespondenceSource {
   ObjectCorrespondenceSource(const PipelineConfig& config, const FeatureExtractor& extractor,
                              Detector& detector, Segmenter& segmenter, TextEmbedder* embedder,
                              const DescriptorMatcher& matcher);
-  std::string name() const override { return "object"; }
+  PathSource path() const override { return PathSource::kObject; }
   PerceivedScan Perceive(const Scan& scan, StageTimer& timer) const override;
   CorrespondenceSet Find(const std::shared_ptr<const PerceivedScan>& source,
                          const std::shared_ptr<const PerceivedScan>& target,

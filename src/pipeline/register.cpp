@@ -303,12 +303,12 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   scans.num_keypoints_target = target.perceived->num_keypoints;
 
   Proposal method;
-  method.path = found.path.empty() ? correspondence_source->name() : found.path;
-  method.check_name = method.path + " ransac";
+  method.path.source = found.path == PathSource::kNone ? correspondence_source->path() : found.path;
+  method.check_name = PathName(method.path) + " ransac";
   method.effective = config;
   // Table 4 row (b) judges a handful of centroid pairs, each off by up to a few decimetres;
   // every later step of the method (fallback, refinement, prior) uses the same thresholds.
-  if (method.path == "object-centroids") {
+  if (method.path.source == PathSource::kObjectCentroids) {
     method.effective.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;
     method.effective.ransac.min_inliers = 3;
   }
@@ -316,7 +316,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   WholeImageMatches whole_image(found.whole_image_fallback);
   PairInputs pair{source,        target, config,       prior,  extractor.get(),
                   matcher.get(), {},     &whole_image, &scans, &method_effective};
-  if (config.hypotheses.enabled && method.path == "object") {
+  if (config.hypotheses.enabled && method.path.source == PathSource::kObject) {
     pair.object_correspondences = found.correspondences;
   }
   method.correspondences = std::move(found.correspondences);

@@ -112,7 +112,7 @@ cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
   }
   char text[160];
   std::snprintf(text, sizeof(text), "%d RANSAC inliers (green), %d outliers (red); path %s",
-                inliers, outliers, result.path.c_str());
+                inliers, outliers, PathName(result.path).c_str());
   Caption(canvas, text);
   return canvas;
 }

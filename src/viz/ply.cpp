@@ -8,6 +8,7 @@
 #include <fstream>
 #include <unordered_map>
 
+#include "io/text_parsing.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -131,10 +132,8 @@ void WritePly(const std::string& path, const ColoredCloud& cloud) {
     }
     for (int d = 0; d < 3; ++d) data.push_back(static_cast<char>(ToByte(cloud.colors[i][d])));
   }
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  if (!out || !out.write(data.data(), static_cast<std::streamsize>(data.size())) || !out.flush()) {
-    throw MakeInputError(path, "cannot write the PLY file");
-  }
+  // Replaced atomically: a full disk keeps the previous file whole, and the error says why.
+  detail::WriteFileAtomically(path, data);
 }
 
 RegisteredPlyFiles WriteRegisteredPly(const std::string& dir, const Scan& source,

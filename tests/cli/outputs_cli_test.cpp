@@ -104,5 +104,13 @@ TEST_F(RegisterOutputs, FuseIntoAnExistingFileIsAClearError) {
   EXPECT_EQ(ReadBytes(Path("fragment")), "a file\n");
 }
 
+// More views than a scan.json may hold would make a fragment no command can read back.
+TEST_F(RegisterOutputs, FuseRefusesMoreViewsThanAScanHolds) {
+  const auto r = RunCli("fuse --dataset '" + dir_.string() + "' --frames 0,20 --views 65 -o '" +
+                        Path("fragment") + "'");
+  ExpectClearError(r, "--views", "expected at most 64");
+  EXPECT_FALSE(std::filesystem::exists(Path("fragment")));
+}
+
 }  // namespace
 }  // namespace zeroreg::testing

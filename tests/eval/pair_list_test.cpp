@@ -82,6 +82,23 @@ TEST_F(EvalPairList, BadLineInPairsTxtNamesFileAndLine) {
   ExpectError("pairs.txt", "line 3");
 }
 
+// A megabyte line (or kind) is echoed cut to a readable length, with its size stated.
+TEST_F(EvalPairList, LongBadLinesAreEchoedShort) {
+  WriteGood();
+  const std::string junk(1 << 20, 'x');
+  for (const std::string& text :
+       {"# kind: frames\n0 5\n" + junk + "\n", "# kind: " + junk + "\n0 5\n"}) {
+    Write("pairs.txt", text);
+    try {
+      Read();
+      ADD_FAILURE() << "no error for a megabyte line";
+    } catch (const InputError& e) {
+      EXPECT_LT(std::string(e.what()).size(), 600u);
+      EXPECT_NE(std::string(e.what()).find("bytes"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST_F(EvalPairList, OtherKindIsRefused) {
   WriteGood();
   Write("pairs.txt", "# kind: fragments\n0 5\n5 10\n");

@@ -205,6 +205,7 @@ TEST_F(BoundaryChecks, IterationCountsAreBounded) {
       {"segmenter.grabcut_iterations=51", "expected an integer in [1, 50]"},
       {"object_match.restarts=101", "expected an integer in [1, 100]"},
       {"object_match.iterations=1001", "expected an integer in [1, 1000]"},
+      {"features.max_keypoints=16385", "expected an integer in [1, 16384]"},
   };
   for (const auto& [assignment, message] : cases) {
     ExpectClearError(

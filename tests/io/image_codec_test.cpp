@@ -13,8 +13,12 @@
 #include <string>
 #include <vector>
 
+#include "io/io_test_util.hpp"
+
 namespace zeroreg::detail {
 namespace {
+
+namespace fs = std::filesystem;
 
 const std::string kData = ZEROREG_REPO_DIR "/../shared/data/";
 
@@ -106,6 +110,27 @@ TEST(ImageCodec, WhatZeroregWritesReadsBackUnchanged) {
   cv::Mat(48, 64, CV_8UC3, cv::Scalar(40, 120, 200)).copyTo(smooth);
   EXPECT_LE(cv::norm(DecodeImage(EncodeJpeg(smooth, 90), ImageMode::kColor), smooth, cv::NORM_INF),
             2.0);
+}
+
+// A picture that cannot be written says why (the system's reason), and one that was there before
+// is replaced whole or not at all.
+TEST(ImageCodec, WriteFailureSaysWhy) {
+  if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "/dev/full is absent";
+  zeroreg::testing_io::TempDir dir;
+  const std::string full = dir.File("full.png");
+  fs::create_symlink("/dev/full", full);
+  const cv::Mat image(48, 64, CV_8UC3, cv::Scalar(40, 120, 200));
+  try {
+    WriteImageFile(full, image);
+    FAIL() << "no error writing to a full disk";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("full.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  const std::string path = dir.File("picture.png");
+  ASSERT_TRUE(WriteImageFile(path, image));
+  EXPECT_EQ(DecodeImage(Bytes(path), ImageMode::kColor).size(), image.size());
 }
 
 TEST(ImageCodec, BadBytesAreErrorsOrNotAnImage) {

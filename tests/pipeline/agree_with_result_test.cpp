@@ -49,7 +49,7 @@ TEST(AgreeWithResult, DropsTheMatchesTheReturnedTransformDoesNotSupport) {
     // Only the reported matches change: the same transform, bit for bit, and verdict.
     EXPECT_TRUE(after.valid) << after.reason;
     EXPECT_EQ(after.T_target_source, before.T_target_source);
-    EXPECT_EQ(after.path, before.path);
+    EXPECT_EQ(PathName(after.path), PathName(before.path));
     EXPECT_EQ(after.num_inliers, before.num_inliers);
     // The kept matches are a subset; the dropped ones are counted as rejected.
     std::set<std::pair<int, int>> reported;

@@ -237,7 +237,7 @@ ImageRivalRun RunImageRival(const PipelineConfig& config, const RegistrationResu
   PairInputs pair{source, target, cfg, no_prior, nullptr, nullptr, {}, &whole_image, &start, &cfg};
   const JudgeFn judge = [&](Proposal p, StageTimer*) {
     Judged j;
-    if (p.path != "image-rival") {  // the method's own candidate
+    if (p.path.source != PathSource::kImageRival) {  // the method's own candidate
       j.result = start;
       j.valid_before_icp = start.valid && !rescued_by_icp;
       return j;
@@ -253,7 +253,7 @@ ImageRivalRun RunImageRival(const PipelineConfig& config, const RegistrationResu
     r.T_target_source =
         MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(rival.offset_m, 0.0, 0.0));
     CandidateSummary candidate;
-    candidate.name = p.path + " ransac";
+    candidate.name = PathName(p.path) + " ransac";
     r.candidates.push_back(candidate);
     return j;
   };
@@ -282,8 +282,7 @@ struct RuleRun {
   RegistrationResult result;
   std::vector<std::string> asked;  // the paths the judge was asked, in order
 };
-RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>& answers,
-                const std::string& method_path = "object") {
+RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>& answers) {
   RuleRun run;
   PipelineConfig config = base;
   config.hypotheses.geometry = false;  // no depth here
@@ -302,12 +301,12 @@ RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>
       source,       target, config, no_prior, nullptr, nullptr, std::vector<Correspondence>(8, c),
       &whole_image, &scans, &config};
   const JudgeFn judge = [&](Proposal p, StageTimer*) {
-    run.asked.push_back(p.path);
+    run.asked.push_back(PathName(p.path));
     Judged j;
     RegistrationResult& r = j.result;
     r.path = p.path;
     r.correspondences = std::vector<Correspondence>(4, c);
-    const auto it = answers.find(p.path);
+    const auto it = answers.find(PathName(p.path));
     if (it != answers.end()) {
       r.valid = it->second.valid;
       r.count_test_passed = it->second.count;
@@ -317,7 +316,7 @@ RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>
       j.valid_before_icp = it->second.valid_before_icp;
     }
     CandidateSummary candidate;
-    candidate.name = p.path;
+    candidate.name = PathName(p.path);
     candidate.T_target_source = r.T_target_source;
     candidate.passed = r.valid;
     r.candidates.push_back(candidate);
@@ -325,7 +324,7 @@ RuleRun RunRule(const PipelineConfig& base, const std::map<std::string, StandIn>
   };
   StageTimer timer;
   Proposal method;
-  method.path = method_path;
+  method.path = {PathSource::kObject};
   run.result = Arbiter(judge, pair, timer).Decide(method, scans);
   return run;
 }
@@ -373,23 +372,23 @@ TEST(ArbiterRule, FallbackReplacesAnInvalidMethodCandidateUnlessItScoresLower) {
   config.hypotheses.enabled = false;  // steps 1-2 alone
   RuleRun run =
       RunRule(config, {{"object", {false, true, 0.2}}, {"image-fallback", {true, true, 0.1}}});
-  EXPECT_EQ(run.result.path, "image-fallback");
+  EXPECT_EQ(PathName(run.result.path), "image-fallback");
   EXPECT_TRUE(run.result.valid);
   EXPECT_EQ(run.result.object_matches.size(), 3u);  // what belongs to the scans is kept
   ASSERT_EQ(run.result.candidates.size(), 2u);
   EXPECT_TRUE(run.result.candidates[1].chosen);
   // Both invalid: the higher score with count evidence stays.
   run = RunRule(config, {{"object", {false, true, 0.2}}, {"image-fallback", {false, true, 0.1}}});
-  EXPECT_EQ(run.result.path, "object");
+  EXPECT_EQ(PathName(run.result.path), "object");
   run = RunRule(config, {{"object", {false, true, 0.1}}, {"image-fallback", {false, true, 0.2}}});
-  EXPECT_EQ(run.result.path, "image-fallback");
+  EXPECT_EQ(PathName(run.result.path), "image-fallback");
   // No count evidence for the method: the fallback's candidate is returned.
   run = RunRule(config, {{"object", {false, false, 0.9}}, {"image-fallback", {false, true, 0.1}}});
-  EXPECT_EQ(run.result.path, "image-fallback");
+  EXPECT_EQ(PathName(run.result.path), "image-fallback");
   // The fallback passed before ICP (ICP or the prior then refused it): it is returned.
   run = RunRule(config,
                 {{"object", {false, true, 0.2}}, {"image-fallback", {false, true, 0.1, 0, true}}});
-  EXPECT_EQ(run.result.path, "image-fallback");
+  EXPECT_EQ(PathName(run.result.path), "image-fallback");
   // A valid method candidate: the whole images are not asked (not decisive needs a doubt).
   run = RunRule(config, {{"object", {true, true, 0.3, 0, true}}});
   EXPECT_EQ(run.asked, std::vector<std::string>{"object"});
@@ -407,14 +406,14 @@ TEST(ArbiterRule, ExtraSourcesTheBestValidWinsAndAnInvalidNeverReplaces) {
                                  {"object-pairs clique", {false, true, 0.9}}});
   EXPECT_EQ(run.asked, (std::vector<std::string>{"object", "image-fallback", "object clique",
                                                  "image clique", "object-pairs clique"}));
-  EXPECT_EQ(run.result.path, "image clique");
+  EXPECT_EQ(PathName(run.result.path), "image clique");
   EXPECT_TRUE(run.result.valid);
   EXPECT_NE(run.result.reason.find("chosen: image clique"), std::string::npos) << run.result.reason;
   // None valid: the held candidate stays, whatever the others score.
   run = RunRule(config, {{"object", {false, true, 0.2}},
                          {"image-fallback", {false, true, 0.1}},
                          {"object clique", {false, true, 0.8}}});
-  EXPECT_EQ(run.result.path, "object");
+  EXPECT_EQ(PathName(run.result.path), "object");
   EXPECT_FALSE(run.result.valid);
 }
 
@@ -426,13 +425,13 @@ TEST(ArbiterRule, AValidHeldCandidateIsNotReplacedByADisagreeingOne) {
   const double gate = config.refine.max_distance_coarse_m;
   RuleRun run = RunRule(config, {{"object", {true, true, 0.3, 0, true}},
                                  {"image clique", {true, true, 0.5, 3 * gate}}});
-  EXPECT_EQ(run.result.path, "object");
+  EXPECT_EQ(PathName(run.result.path), "object");
   EXPECT_NE(run.result.reason.find("disagreeing with the method's valid estimate: not taken"),
             std::string::npos)
       << run.result.reason;
   run = RunRule(config, {{"object", {true, true, 0.3, 0, true}},
                          {"image clique", {true, true, 0.5, 0.5 * gate}}});
-  EXPECT_EQ(run.result.path, "image clique");
+  EXPECT_EQ(PathName(run.result.path), "image clique");
 }
 
 TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
@@ -441,7 +440,7 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   const double gate = config.refine.max_distance_coarse_m;  // 0.15 m
   RegistrationResult object;
   object.valid = true;
-  object.path = "object";
+  object.path = {PathSource::kObject};
   object.verification.score = 0.35;
   object.source_objects.push_back(Object("chair", Eigen::Vector3d(1, 0, 2)));
   object.num_keypoints_source = 123;
@@ -463,7 +462,7 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   ImageRivalRun out = run(config, object, {true, 2 * gate, 0.47});
   EXPECT_TRUE(out.ran);
   RegistrationResult r = out.result;
-  EXPECT_EQ(r.path, "image-rival");
+  EXPECT_EQ(PathName(r.path), "image-rival");
   EXPECT_EQ(r.verification.score, 0.47);
   ASSERT_EQ(r.source_objects.size(), 1u);
   EXPECT_EQ(r.num_keypoints_source, 123);
@@ -478,7 +477,7 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
     out = run(config, object, rival);
     EXPECT_TRUE(out.ran);
     r = out.result;
-    EXPECT_EQ(r.path, "object");
+    EXPECT_EQ(PathName(r.path), "object");
     EXPECT_EQ(r.verification.score, 0.35);
     EXPECT_EQ(r.candidates.size(), 2u);
     EXPECT_NE(r.reason.find("checked against the whole-image estimate"), std::string::npos)
@@ -489,12 +488,12 @@ TEST(ImageRival, ReplacesOnlyAValidDisagreeingHigherScoringEstimate) {
   off.hypotheses.image_rival = false;
   out = run(off, object, {true, 2 * gate, 0.47});
   EXPECT_FALSE(out.ran);
-  EXPECT_EQ(out.result.path, "object");
+  EXPECT_EQ(PathName(out.result.path), "object");
   RegistrationResult invalid = object;
   invalid.valid = false;
   EXPECT_FALSE(run(config, invalid, {true, 2 * gate, 0.47}).ran);
   RegistrationResult image = object;
-  image.path = "image-fallback";
+  image.path = {PathSource::kImageFallback};
   EXPECT_FALSE(run(config, image, {true, 2 * gate, 0.47}).ran);
   PipelineConfig unchecked = config;
   unchecked.verify.enabled = false;
@@ -511,7 +510,7 @@ TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
   const double gate = config.refine.max_distance_final_m;  // 0.02 m
   RegistrationResult object;
   object.valid = true;
-  object.path = "object";
+  object.path = {PathSource::kObject};
   object.num_inliers = 33;
   object.verification.degenerate = true;
   object.verification.score = 0.537;
@@ -521,14 +520,14 @@ TEST(ImageRival, DegenerateObjectEstimateGivesWayToTheBetterSupportedOne) {
   };
   ImageRivalRun out = RunImageRival(config, object, rival(true, 3 * gate, 330));
   EXPECT_TRUE(out.ran);
-  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_EQ(PathName(out.result.path), "image-rival");
   EXPECT_NE(out.result.reason.find("degenerate geometry"), std::string::npos) << out.result.reason;
   // Within the final gate (the same answer), fewer inliers, or not valid: the object path stays.
   for (const StandInRival& r :
        {rival(true, 0.5 * gate, 330), rival(true, 3 * gate, 20), rival(false, 3 * gate, 330)}) {
     out = RunImageRival(config, object, r);
     EXPECT_TRUE(out.ran);
-    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.inliers;
+    EXPECT_EQ(PathName(out.result.path), "object") << r.offset_m << " " << r.inliers;
   }
   // Not run where the geometry is not degenerate, or with the switch off.
   RegistrationResult constrained = object;
@@ -550,7 +549,7 @@ TEST(ImageRival, RealDegeneratePairTakesTheWholeImageEstimate) {
   const Transform gt = GroundTruth(source, target);
   const RegistrationResult r = Register(source, target, PipelineConfig());
   ASSERT_TRUE(r.valid) << r.reason;
-  EXPECT_EQ(r.path, "image-rival") << r.reason;
+  EXPECT_EQ(PathName(r.path), "image-rival") << r.reason;
   EXPECT_NE(r.reason.find("degenerate geometry: the whole-image estimate is supported"),
             std::string::npos)
       << r.reason;
@@ -559,7 +558,7 @@ TEST(ImageRival, RealDegeneratePairTakesTheWholeImageEstimate) {
   PipelineConfig off;
   off.hypotheses.image_rival_degenerate = false;
   const RegistrationResult object = Register(source, target, off);
-  EXPECT_EQ(object.path, "object") << object.reason;
+  EXPECT_EQ(PathName(object.path), "object") << object.reason;
   EXPECT_TRUE(object.verification.degenerate) << "the pair no longer tests degenerate geometry";
   EXPECT_GT(RotationErrorDeg(object.T_target_source, gt), 5.0)
       << "the pair no longer tests an object estimate worse than the whole image's";
@@ -575,7 +574,7 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
   const double gate = config.refine.max_distance_final_m;  // 0.02 m
   RegistrationResult object;
   object.valid = true;
-  object.path = "object";
+  object.path = {PathSource::kObject};
   object.num_inliers = 7;
   object.verification.score = 0.316;
   const auto rival = [](bool valid, double offset_m, double score) {
@@ -583,7 +582,7 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
   };
   ImageRivalRun out = RunImageRival(config, object, rival(true, 3 * gate, 0.484), true);
   EXPECT_TRUE(out.ran);
-  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_EQ(PathName(out.result.path), "image-rival");
   EXPECT_NE(out.result.reason.find("passed the check only after ICP"), std::string::npos)
       << out.result.reason;
   // The same answer (within the final gate), a lower score, or not valid: the object path stays.
@@ -591,7 +590,7 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
                                 rival(false, 3 * gate, 0.484)}) {
     out = RunImageRival(config, object, r, true);
     EXPECT_TRUE(out.ran);
-    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.score;
+    EXPECT_EQ(PathName(out.result.path), "object") << r.offset_m << " " << r.score;
   }
   // Degenerate geometry: the score cannot decide, so the rescued rule stands aside, also with the
   // degenerate rule off (that rule judges by inliers, and 38 > 7 here).
@@ -600,9 +599,9 @@ TEST(ImageRival, RescuedObjectEstimateGivesWayToTheBetterScoredOne) {
   only_rescued.hypotheses.image_rival_degenerate = false;
   out = RunImageRival(only_rescued, object, rival(true, 3 * gate, 0.484), true);
   EXPECT_TRUE(out.ran);
-  EXPECT_EQ(out.result.path, "object") << out.result.reason;
+  EXPECT_EQ(PathName(out.result.path), "object") << out.result.reason;
   out = RunImageRival(config, object, rival(true, 3 * gate, 0.484), true);
-  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_EQ(PathName(out.result.path), "image-rival");
   EXPECT_NE(out.result.reason.find("degenerate geometry"), std::string::npos) << out.result.reason;
   object.verification.degenerate = false;
   // Not run for an estimate valid before ICP, with the switch off, or without the extra sources.
@@ -624,13 +623,13 @@ TEST(ImageRival, SingleObjectMatchGivesWayToTheBetterScoredOne) {
   const double gate = config.refine.max_distance_final_m;
   RegistrationResult object;
   object.valid = true;
-  object.path = "object";
+  object.path = {PathSource::kObject};
   object.num_inliers = 22;
   object.verification.score = 0.351;
   object.object_matches = {{0, 0, 1.8, 22}};
   ImageRivalRun out = RunImageRival(config, object, {true, 3 * gate, 0.472, 60});
   EXPECT_TRUE(out.ran);
-  EXPECT_EQ(out.result.path, "image-rival");
+  EXPECT_EQ(PathName(out.result.path), "image-rival");
   EXPECT_NE(out.result.reason.find("rests on one object match"), std::string::npos)
       << out.result.reason;
   // The same answer, a lower score, not valid, or degenerate geometry (the score cannot decide;
@@ -640,14 +639,14 @@ TEST(ImageRival, SingleObjectMatchGivesWayToTheBetterScoredOne) {
         StandInRival{false, 3 * gate, 0.472, 60}}) {
     out = RunImageRival(config, object, r);
     EXPECT_TRUE(out.ran);
-    EXPECT_EQ(out.result.path, "object") << r.offset_m << " " << r.score;
+    EXPECT_EQ(PathName(out.result.path), "object") << r.offset_m << " " << r.score;
   }
   PipelineConfig no_degenerate_rule = config;
   no_degenerate_rule.hypotheses.image_rival_degenerate = false;
   RegistrationResult degenerate = object;
   degenerate.verification.degenerate = true;
   out = RunImageRival(no_degenerate_rule, degenerate, {true, 3 * gate, 0.472, 60});
-  EXPECT_EQ(out.result.path, "object") << out.result.reason;
+  EXPECT_EQ(PathName(out.result.path), "object") << out.result.reason;
   // Two matched pairs, the switch off, or no extra sources: not run.
   RegistrationResult two = object;
   two.object_matches.push_back({1, 1, 1.7, 10});
@@ -671,14 +670,14 @@ TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   const Transform gt = GroundTruth(source, target);
   const RegistrationResult now = Register(source, target, PipelineConfig());
   ASSERT_TRUE(now.valid) << now.reason;
-  EXPECT_EQ(now.path, "object") << now.reason;
+  EXPECT_EQ(PathName(now.path), "object") << now.reason;
   EXPECT_LT(RotationErrorDeg(now.T_target_source, gt), 1.0) << now.reason;
   EXPECT_LT(TranslationErrorM(now.T_target_source, gt), 0.04) << now.reason;
   PipelineConfig cut_masks;
   cut_masks.segmenter.min_hole_width_px = 1;
   const RegistrationResult r = Register(source, target, cut_masks);
   ASSERT_TRUE(r.valid) << r.reason;
-  EXPECT_EQ(r.path, "image-rival") << r.reason;
+  EXPECT_EQ(PathName(r.path), "image-rival") << r.reason;
   EXPECT_NE(r.reason.find("passed the check only after ICP"), std::string::npos) << r.reason;
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 1.0) << r.reason;
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.04) << r.reason;
@@ -686,7 +685,7 @@ TEST(ImageRival, RealRescuedPairTakesTheBetterScoredWholeImageEstimate) {
   off.hypotheses.image_rival_rescued = false;
   off.hypotheses.image_rival_single = false;  // the pair's object path rests on one match too
   const RegistrationResult object = Register(source, target, off);
-  EXPECT_EQ(object.path, "object") << object.reason;
+  EXPECT_EQ(PathName(object.path), "object") << object.reason;
   EXPECT_NE(object.reason.find("refined by ICP"), std::string::npos) << object.reason;
   EXPECT_FALSE(object.verification.degenerate) << "the pair now tests the degenerate rule";
   EXPECT_GT(RotationErrorDeg(object.T_target_source, gt), 1.5)
@@ -701,7 +700,7 @@ TEST(ImageRival, RealPairAgreeingEstimatesKeepTheObjectPath) {
   config.hypotheses.image_rival = true;
   const RegistrationResult r = Register(source, target, config);
   ASSERT_TRUE(r.valid) << r.reason;
-  EXPECT_EQ(r.path, "object") << r.reason;
+  EXPECT_EQ(PathName(r.path), "object") << r.reason;
   EXPECT_NE(r.reason.find("checked against the whole-image estimate: image-rival: valid"),
             std::string::npos)
       << r.reason;
@@ -741,18 +740,18 @@ TEST(Hypotheses, RealCentroidEstimateRefinementMustKeepItsEvidence) {
              TranslationErrorM(r.T_target_source, gt) > 0.3;
     };
     const RegistrationResult before = unguarded.Register(source, target);
-    EXPECT_TRUE(before.valid && wrong(before) && before.path == "object-pairs clique")
-        << "the pair no longer tests a wrong refinement of the object-pairs source: " << before.path
-        << ", " << before.reason;
+    EXPECT_TRUE(before.valid && wrong(before) && PathName(before.path) == "object-pairs clique")
+        << "the pair no longer tests a wrong refinement of the object-pairs source: "
+        << PathName(before.path) << ", " << before.reason;
     const RegistrationResult after = pipeline.Register(source, target);
-    EXPECT_FALSE(after.valid && wrong(after)) << after.path << ", " << after.reason;
-    EXPECT_NE(after.path, "object-pairs clique") << after.reason;
+    EXPECT_FALSE(after.valid && wrong(after)) << PathName(after.path) << ", " << after.reason;
+    EXPECT_NE(PathName(after.path), "object-pairs clique") << after.reason;
   }
   const std::string cabinet = testing::SharedDir() + "/data/tum-fr3-cabinet";
   const Scan source = LoadScan(cabinet + "@3"), target = LoadScan(cabinet + "@0");
   const RegistrationResult geometry = Register(source, target, PipelineConfig());
   EXPECT_TRUE(geometry.valid) << geometry.reason;
-  EXPECT_EQ(geometry.path, "geometry clique") << geometry.reason;
+  EXPECT_EQ(PathName(geometry.path), "geometry clique") << geometry.reason;
   EXPECT_LT(RotationErrorDeg(geometry.T_target_source, GroundTruth(source, target)), 5.0);
 }
 
@@ -773,15 +772,15 @@ RegistrationResult RegisterGeometryCaseWithTheRule(const RealPair& pair) {
   PipelineConfig without_rule = with_rule;
   without_rule.hypotheses.refine_keeps_evidence = false;
   const RegistrationResult before = Register(pair.source, pair.target, without_rule);
-  EXPECT_TRUE(before.valid && pair.Wrong(before) && before.path == "geometry clique")
-      << "the pair no longer tests the rule: " << before.path << ", " << before.reason;
+  EXPECT_TRUE(before.valid && pair.Wrong(before) && PathName(before.path) == "geometry clique")
+      << "the pair no longer tests the rule: " << PathName(before.path) << ", " << before.reason;
   return Register(pair.source, pair.target, with_rule);
 }
 
 TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
   const RealPair pair = LoadRealPair("7scenes-redkitchen", 765, 134);
   const RegistrationResult after = RegisterGeometryCaseWithTheRule(pair);
-  EXPECT_FALSE(after.valid && pair.Wrong(after)) << after.path << ", " << after.reason;
+  EXPECT_FALSE(after.valid && pair.Wrong(after)) << PathName(after.path) << ", " << after.reason;
   EXPECT_FALSE(after.valid) << after.reason;
 }
 
@@ -792,7 +791,7 @@ TEST(Hypotheses, RealGeometryRefinementMustKeepFourOfItsInliers) {
 TEST(Hypotheses, RealEstimateIsNotValidWhenItsRefinementIsAnotherAcceptedPose) {
   const RegistrationResult after =
       RegisterGeometryCaseWithTheRule(LoadRealPair("7scenes-redkitchen", 80, 299));
-  EXPECT_FALSE(after.valid) << after.path << ", " << after.reason;
+  EXPECT_FALSE(after.valid) << PathName(after.path) << ", " << after.reason;
   EXPECT_NE(after.reason.find("geometry clique: not valid: another pose passes the check"),
             std::string::npos)
       << after.reason;
@@ -809,10 +808,10 @@ TEST(Hypotheses, RealGeometryPoseBetweenTwoRoomsNeedsTheImagesToAgree) {
   PipelineConfig without_rule;
   without_rule.hypotheses.min_brightness_rank_correlation = -1.0;
   const RegistrationResult before = Register(source, target, without_rule);
-  EXPECT_TRUE(before.valid && before.path == "geometry clique")
-      << "the pair no longer tests the rule: " << before.path << ", " << before.reason;
+  EXPECT_TRUE(before.valid && PathName(before.path) == "geometry clique")
+      << "the pair no longer tests the rule: " << PathName(before.path) << ", " << before.reason;
   const RegistrationResult after = Register(source, target, PipelineConfig());
-  EXPECT_FALSE(after.valid) << after.path << ", " << after.reason;
+  EXPECT_FALSE(after.valid) << PathName(after.path) << ", " << after.reason;
   EXPECT_NE(after.reason.find("geometry clique: refused: the images disagree"), std::string::npos)
       << after.reason;
 }
@@ -832,7 +831,7 @@ TEST(Hypotheses, RealAlwaysKeepsTheMethodsValidEstimateAgainstADisagreeingSource
   always.hypotheses.min_brightness_rank_correlation = -1.0;
   const RegistrationResult r = Register(source, target, always);
   ASSERT_TRUE(r.valid) << r.reason;
-  EXPECT_NE(r.path, "geometry clique") << r.reason;
+  EXPECT_NE(PathName(r.path), "geometry clique") << r.reason;
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 15.0) << r.reason;
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.3) << r.reason;
   EXPECT_NE(r.reason.find("disagreeing with the method's valid estimate: not taken"),

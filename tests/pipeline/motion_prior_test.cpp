@@ -52,7 +52,7 @@ RegistrationResult RegisterSymmetricPairWithAPrior(const RealPair& p) {
   const Pipeline pipeline{PipelineConfig()};
   const RegistrationResult without = pipeline.Register(p.source, p.target);
   EXPECT_TRUE(without.valid && !Right(without, p.gt))
-      << "the pair no longer tests the prior: " << without.path << ": " << without.reason;
+      << "the pair no longer tests the prior: " << PathName(without.path) << ": " << without.reason;
   return pipeline.Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
 }
 
@@ -63,7 +63,7 @@ RegistrationResult RegisterSymmetricPairWithAPrior(const RealPair& p) {
 TEST(MotionPrior, FlippedCabinetIsNotValidOutsideThePrior) {
   const RealPair p = LoadPair("tum-fr3-cabinet", 7, 39);
   const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
-  EXPECT_FALSE(with.valid && !Right(with, p.gt)) << with.path << ": " << with.reason;
+  EXPECT_FALSE(with.valid && !Right(with, p.gt)) << PathName(with.path) << ": " << with.reason;
   EXPECT_TRUE(with.outside_prior) << with.reason;  // the flip passed the check, beyond the prior
   // The refusal as data: the flip's rotation from the prior, beyond its 15 deg.
   EXPECT_EQ(with.refusal.test, RefusalTest::kOutsidePrior) << with.reason;
@@ -82,7 +82,7 @@ TEST(MotionPrior, IcpFromThePriorRegistersTheSymmetricTable) {
   const RealPair p = LoadPair("hololens-office", 371, 124);
   const RegistrationResult with = RegisterSymmetricPairWithAPrior(p);
   ASSERT_TRUE(with.valid) << with.reason;
-  EXPECT_EQ(with.path, "prior icp");
+  EXPECT_EQ(PathName(with.path), "prior icp");
   EXPECT_LT(RotationErrorDeg(with.T_target_source, p.gt), 2.0);
   EXPECT_LT(TranslationErrorM(with.T_target_source, p.gt), 0.10);
   EXPECT_NE(with.reason.find("no source gave a valid pose within the motion prior"),
@@ -95,7 +95,7 @@ TEST(MotionPrior, IcpFromThePriorRegistersTheSymmetricTable) {
   const RegistrationResult serial =
       Pipeline(one_thread).Register(p.source, p.target, MotionPrior{NearTruth(p.gt)});
   EXPECT_EQ(serial.T_target_source, with.T_target_source);
-  EXPECT_EQ(serial.path, with.path);
+  EXPECT_EQ(PathName(serial.path), PathName(with.path));
 }
 
 // hololens-office 135 <- 51 (6 % co-visible): a wall. ICP from a prior near the truth slides 35 cm
@@ -107,7 +107,7 @@ TEST(MotionPrior, IcpFromThePriorIsNotValidInDegenerateGeometry) {
   const Pipeline pipeline{PipelineConfig()};
   const RegistrationResult r =
       pipeline.Register(p.source, p.target, MotionPrior{NearTruth(p.gt), 15.0, 1.0});
-  EXPECT_FALSE(r.valid) << r.path << ": " << r.reason;
+  EXPECT_FALSE(r.valid) << PathName(r.path) << ": " << r.reason;
   EXPECT_NE(r.reason.find("ICP from it is not valid either"), std::string::npos) << r.reason;
   EXPECT_NE(r.reason.find("the geometry is degenerate and no correspondence fixes"),
             std::string::npos)
@@ -124,7 +124,7 @@ TEST(MotionPrior, AResultWithinThePriorIsUnchanged) {
   ASSERT_TRUE(without.valid) << without.reason;
   EXPECT_TRUE(with.valid) << with.reason;
   EXPECT_EQ(with.T_target_source, without.T_target_source);
-  EXPECT_EQ(with.path, without.path);
+  EXPECT_EQ(PathName(with.path), PathName(without.path));
   EXPECT_EQ(with.reason, without.reason);
 }
 

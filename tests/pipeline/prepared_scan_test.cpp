@@ -25,7 +25,7 @@ void ExpectIdentical(const RegistrationResult& a, const RegistrationResult& b) {
   EXPECT_EQ(a.T_target_source, b.T_target_source);
   EXPECT_EQ(a.valid, b.valid);
   EXPECT_EQ(a.reason, b.reason);
-  EXPECT_EQ(a.path, b.path);
+  EXPECT_EQ(PathName(a.path), PathName(b.path));
   EXPECT_EQ(a.num_keypoints_source, b.num_keypoints_source);
   EXPECT_EQ(a.num_keypoints_target, b.num_keypoints_target);
   EXPECT_EQ(a.num_correspondences, b.num_correspondences);

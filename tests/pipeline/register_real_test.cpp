@@ -27,7 +27,8 @@ TEST_P(RegisterRealPair, WithinFiveDegreesAndTenCentimetres) {
   const RegistrationResult r = Register(source, target);
   const Transform gt = GroundTruth(source, target);
   EXPECT_TRUE(r.valid) << r.reason;
-  EXPECT_TRUE(r.path == "object" || r.path == "image-fallback") << r.path;
+  EXPECT_TRUE(PathName(r.path) == "object" || PathName(r.path) == "image-fallback")
+      << PathName(r.path);
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
   EXPECT_GT(CorrespondenceInlierRatio(r.correspondences, gt), 0.3);
@@ -44,7 +45,7 @@ TEST_P(RegisterRealPair, WholeImagePathWithinFiveDegreesAndTenCentimetres) {
   const RegistrationResult r = Register(source, target, config);
   const Transform gt = GroundTruth(source, target);
   EXPECT_TRUE(r.valid) << r.reason;
-  EXPECT_EQ(r.path, "image");
+  EXPECT_EQ(PathName(r.path), "image");
   EXPECT_TRUE(r.source_objects.empty());
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 5.0);
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.10);
@@ -100,14 +101,14 @@ TEST(RegisterReal, WholeImageMatchingPairsDifferentViewsWhenOnlyTheyOverlap) {
   PipelineConfig config;
   config.method.min_object_matches = 1000;  // force the whole-image fallback
   const RegistrationResult r = Register(source, target, config);
-  EXPECT_EQ(r.path, "image-fallback");
+  EXPECT_EQ(PathName(r.path), "image-fallback");
   ExpectRightFromCrossedViews(r, gt);
 
   // The whole-image path of row (a) pairs the views the same way.
   PipelineConfig image_path;
   image_path.method.object_level = false;
   const RegistrationResult image = Register(source, target, image_path);
-  EXPECT_EQ(image.path, "image");
+  EXPECT_EQ(PathName(image.path), "image");
   ExpectRightFromCrossedViews(image, gt);
 
   // The four view pairs are matched on two threads by default; one thread gives the same bits.
@@ -134,13 +135,13 @@ TEST(RegisterReal, ObjectLevelMatchesEveryViewPairThatSeesTheObject) {
   const Scan source = TwoViewScan(520, 20), target = TwoViewScan(0, 500);
   const Transform gt = GroundTruth(source, target);
   const RegistrationResult r = Register(source, target);
-  ASSERT_EQ(r.path, "object") << r.reason;
+  ASSERT_EQ(PathName(r.path), "object") << r.reason;
   ExpectRightFromCrossedViews(r, gt);
 
   PipelineConfig same_view;
   same_view.method.object_all_view_pairs = false;
   const RegistrationResult same = Register(source, target, same_view);
-  if (same.path == "object") {
+  if (PathName(same.path) == "object") {
     for (const Correspondence& c : same.correspondences) ASSERT_EQ(c.view, c.target_view);
   }
 }
@@ -207,7 +208,7 @@ TEST(RegisterReal, UnrelatedImagesAreReportedAsFailureNotIdentity) {
   // register the pair: whatever the default returns, valid means right.
   const RegistrationResult d = Register(source, target);
   if (d.valid) {
-    EXPECT_EQ(d.path.rfind("geometry", 0), 0u) << d.path;
+    EXPECT_EQ(PathName(d.path).rfind("geometry", 0), 0u) << PathName(d.path);
     const Transform gt = GroundTruth(source, target);
     EXPECT_LT(RotationErrorDeg(d.T_target_source, gt), 5.0);
     EXPECT_LT(TranslationErrorM(d.T_target_source, gt), 0.10);
@@ -271,7 +272,7 @@ TEST(RegisterReal, RefusedObjectEstimateIsRefinedBeforeTheFallback) {
   const Transform gt = GroundTruth(source, target);
   const RegistrationResult r = Register(source, target);
   EXPECT_TRUE(r.valid) << r.reason;
-  EXPECT_EQ(r.path, "object") << r.reason;
+  EXPECT_EQ(PathName(r.path), "object") << r.reason;
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 2.0) << r.reason;
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.05) << r.reason;
   ASSERT_FALSE(r.candidates.empty());

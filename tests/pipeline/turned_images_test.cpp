@@ -118,7 +118,7 @@ TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) 
 
   const RegistrationResult after = Register(source, target, PipelineConfig());
   ASSERT_TRUE(after.valid) << after.reason;
-  EXPECT_EQ(after.path, "image-turned-180 ransac");
+  EXPECT_EQ(PathName(after.path), "image-turned-180 ransac");
   EXPECT_LT(RotationErrorDeg(after.T_target_source, gt), 1.0);
   EXPECT_LT(TranslationErrorM(after.T_target_source, gt), 0.03);
   // Only the turn with the most distinctive matches is matched and judged.
@@ -132,7 +132,7 @@ TEST(TurnedImages, RealPairWithOneCameraUpsideDownRegistersFromTheTurnedImages) 
   PipelineConfig one_thread;
   one_thread.threads = 1;
   const RegistrationResult serial = Register(source, target, one_thread);
-  EXPECT_EQ(serial.path, after.path);
+  EXPECT_EQ(PathName(serial.path), PathName(after.path));
   EXPECT_EQ(serial.T_target_source, after.T_target_source);
 }
 
@@ -150,7 +150,7 @@ TEST(TurnedImages, PreparedSourceReusesItsTurnedFeatures) {
   const RegistrationResult second = pipeline.Register(prepared_source, prepared_target);
   const RegistrationResult fresh = pipeline.Register(source, target);
   ASSERT_TRUE(first.valid) << first.reason;
-  EXPECT_EQ(first.path, "image-turned-180 ransac");
+  EXPECT_EQ(PathName(first.path), "image-turned-180 ransac");
   EXPECT_EQ(second.T_target_source, first.T_target_source);
   EXPECT_EQ(fresh.T_target_source, first.T_target_source);
 }
@@ -181,11 +181,11 @@ TEST(TurnedImages, ATurnWithFewerThanFourDistinctiveMatchesIsNotMatched) {
   PipelineConfig any_score;
   any_score.hypotheses.turned_min_matches = 0;
   const RegistrationResult before = Register(source, target, any_score);
-  EXPECT_TRUE(before.valid && wrong(before) && before.path == "image-turned-180 ransac")
-      << "the pair no longer tests the rule: " << before.path << ": " << before.reason;
+  EXPECT_TRUE(before.valid && wrong(before) && PathName(before.path) == "image-turned-180 ransac")
+      << "the pair no longer tests the rule: " << PathName(before.path) << ": " << before.reason;
 
   const RegistrationResult after = Register(source, target, PipelineConfig());
-  EXPECT_FALSE(after.valid && wrong(after)) << after.path << ": " << after.reason;
+  EXPECT_FALSE(after.valid && wrong(after)) << PathName(after.path) << ": " << after.reason;
   EXPECT_EQ(after.reason.find("image-turned-180 "), std::string::npos) << after.reason;
   EXPECT_NE(after.reason.find("none matched: fewer than 4 for the best turn"), std::string::npos)
       << after.reason;

@@ -156,5 +156,35 @@ TEST_F(PlyTest, WriteErrorsNameTheFile) {
   EXPECT_THROW(WritePly((dir_ / "no-such-folder" / "x.ply").string(), good), InputError);
 }
 
+// A full disk (/dev/full, through a link in the test's folder) gives the system's reason, and a
+// PLY that was there stays whole: the new one is written beside it and renamed over it.
+TEST_F(PlyTest, FullDiskSaysWhyAndKeepsThePreviousFile) {
+  ColoredCloud cloud;
+  cloud.points = {{0, 0, 0}, {1, 0, 0}};
+  cloud.colors = {{0, 0, 0}, {1, 1, 1}};
+  fs::create_directories(dir_);
+  const std::string kept = (dir_ / "kept.ply").string();
+  WritePly(kept, cloud);
+  const auto size = fs::file_size(kept);
+  cloud.points.resize(1000, Eigen::Vector3d(0.5, 0.5, 0.5));
+  cloud.colors.resize(1000, Eigen::Vector3d(0.5, 0.5, 0.5));
+  WritePly(kept, cloud);
+  EXPECT_GT(fs::file_size(kept), size);
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename(), "kept.ply") << "a temporary file was left behind";
+  }
+  if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "/dev/full is absent";
+  const std::string full = (dir_ / "full.ply").string();
+  fs::create_symlink("/dev/full", full);
+  try {
+    WritePly(full, cloud);
+    FAIL() << "no error writing to a full disk";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("full.ply"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+}
+
 }  // namespace
 }  // namespace zeroreg

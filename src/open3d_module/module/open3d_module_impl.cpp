@@ -11,6 +11,8 @@
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <open3d/pipelines/registration/CorrespondenceChecker.h>
 #include <open3d/pipelines/registration/Feature.h>
+#include <open3d/pipelines/registration/GlobalOptimization.h>
+#include <open3d/pipelines/registration/PoseGraph.h>
 #include <open3d/pipelines/registration/Registration.h>
 #include <open3d/utility/Logging.h>
 #include <open3d/utility/Random.h>
@@ -151,6 +153,57 @@ void TsdfExtract(void* volume, double output_voxel_m, std::vector<Eigen::Vector3
 
 void TsdfDestroy(void* volume) { delete static_cast<Volume*>(volume); }
 
+void PointToPlaneIcp(const std::vector<Eigen::Vector3d>& source,
+                     const std::vector<Eigen::Vector3d>& target, const api::IcpRequest& r,
+                     api::IcpResult* out) {
+  QuietOnce();
+  PointCloud src, tgt;
+  src.points_ = source;
+  tgt.points_ = target;
+  tgt.EstimateNormals(
+      open3d::geometry::KDTreeSearchParamHybrid(r.normal_radius_m, r.normal_max_nn));
+  const reg::RegistrationResult result = reg::RegistrationICP(
+      src, tgt, r.max_distance_m, r.init, reg::TransformationEstimationPointToPlane(),
+      reg::ICPConvergenceCriteria(1e-6, 1e-6, r.max_iterations));
+  out->T_target_source = result.transformation_;
+  out->fitness = result.fitness_;
+  out->inlier_rmse = result.inlier_rmse_;
+  out->information =
+      reg::GetInformationMatrixFromPointClouds(src, tgt, r.max_distance_m, result.transformation_);
+}
+
+void OptimizePoseGraph(std::vector<Eigen::Matrix4d>* world_from_node,
+                       std::vector<api::PoseGraphEdge>* edges, const api::PoseGraphOptions& o) {
+  QuietOnce();
+  reg::PoseGraph graph;
+  for (const Eigen::Matrix4d& pose : *world_from_node) graph.nodes_.emplace_back(pose);
+  for (const api::PoseGraphEdge& e : *edges) {
+    graph.edges_.emplace_back(e.source, e.target, e.T_target_source, e.information, e.uncertain,
+                              e.confidence);
+  }
+  reg::GlobalOptimization(
+      graph, reg::GlobalOptimizationLevenbergMarquardt(),
+      reg::GlobalOptimizationConvergenceCriteria(),
+      reg::GlobalOptimizationOption(o.max_correspondence_distance_m, o.edge_prune_threshold,
+                                    o.preference_loop_closure, o.reference_node));
+  for (size_t n = 0; n < world_from_node->size(); ++n)
+    (*world_from_node)[n] = graph.nodes_[n].pose_;
+  // GlobalOptimization removes the pruned edges and keeps the others in order, with their
+  // line-process weight in confidence_: match them back by their end nodes.
+  size_t kept = 0;
+  for (api::PoseGraphEdge& e : *edges) {
+    if (kept < graph.edges_.size() && graph.edges_[kept].source_node_id_ == e.source &&
+        graph.edges_[kept].target_node_id_ == e.target) {
+      e.confidence = graph.edges_[kept].confidence_;
+      e.pruned = false;
+      ++kept;
+    } else {
+      e.pruned = true;
+      e.confidence = 0.0;
+    }
+  }
+}
+
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) const api::Api* zeroreg_open3d_module_api() {
@@ -166,6 +219,8 @@ extern "C" __attribute__((visibility("default"))) const api::Api* zeroreg_open3d
     t.tsdf_integrate = TsdfIntegrate;
     t.tsdf_extract = TsdfExtract;
     t.tsdf_destroy = TsdfDestroy;
+    t.point_to_plane_icp = PointToPlaneIcp;
+    t.optimize_pose_graph = OptimizePoseGraph;
     return t;
   }();
   return &table;

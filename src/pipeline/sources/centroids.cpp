@@ -45,7 +45,7 @@ class CentroidSource : public PoseSource {
     std::vector<Correspondence> pairs = ObjectPairCorrespondences(*pair.method);
     if (pairs.size() < 3) return std::nullopt;
     Proposal p;
-    p.path = "object-pairs " + h.estimator;
+    p.path = {PathSource::kObjectPairs, PathEstimatorOf(h.estimator)};
     p.correspondences = std::move(pairs);
     p.effective = ExtraSourceConfig(config);
     p.effective.ransac.inlier_threshold_m = config.method.object_centroid_threshold_m;

@@ -44,7 +44,7 @@ class GeometrySource : public PoseSource {
     const HypothesesConfig& h = config.hypotheses;
     if (!h.geometry) return std::nullopt;
     Proposal p;
-    p.path = "geometry " + h.estimator;
+    p.path = {PathSource::kGeometry, PathEstimatorOf(h.estimator)};
     p.correspondences = GeometryCorrespondences(pair.source.scan, pair.target.scan, config);
     p.effective = ExtraSourceConfig(config);
     // Correspondences between voxel centres are off by up to about a voxel even when right, so

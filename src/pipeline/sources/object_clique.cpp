@@ -17,7 +17,7 @@ class ObjectCliqueSource : public PoseSource {
       return std::nullopt;
     }
     Proposal p;
-    p.path = "object " + h.estimator;
+    p.path = {PathSource::kObject, PathEstimatorOf(h.estimator)};
     p.correspondences = pair.object_correspondences;
     p.effective = ExtraSourceConfig(pair.config);
     p.keep = {/*fraction_always=*/false, /*min_kept=*/4};

@@ -89,6 +89,10 @@ class PoseSource {
 // turned images).
 std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost);
 
+// The path estimator named by an estimator's name ("ransac" or "clique", the two ValidateConfig
+// admits).
+PathEstimator PathEstimatorOf(const std::string& estimator);
+
 // The extra sources' estimator and count test (HypothesesConfig documents why).
 PipelineConfig ExtraSourceConfig(const PipelineConfig& config);
 

@@ -8,9 +8,6 @@
 namespace zeroreg {
 namespace {
 
-constexpr const char* kPriorPath = "prior";
-constexpr const char* kPriorIcpPath = "prior icp";
-
 class PriorSource : public PoseSource {
  public:
   std::string name() const override { return "prior"; }
@@ -25,7 +22,7 @@ class PriorSource : public PoseSource {
       return std::nullopt;
     }
     Proposal p;
-    p.path = kPriorPath;
+    p.path = {PathSource::kPrior};
     p.pose = pair.prior->T_target_source;
     p.effective = pair.method_effective != nullptr ? *pair.method_effective : pair.config;
     p.refuse_degenerate = true;
@@ -38,7 +35,7 @@ class PriorSource : public PoseSource {
 std::unique_ptr<PoseSource> MakePriorSource() { return std::make_unique<PriorSource>(); }
 
 bool ComesFromMotionPrior(const RegistrationResult& result) {
-  return result.path == kPriorPath || result.path == kPriorIcpPath;
+  return result.path.source == PathSource::kPrior;
 }
 
 }  // namespace zeroreg

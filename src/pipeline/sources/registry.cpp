@@ -27,6 +27,10 @@ std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost) {
   return out;
 }
 
+PathEstimator PathEstimatorOf(const std::string& estimator) {
+  return estimator == "clique" ? PathEstimator::kClique : PathEstimator::kRansac;
+}
+
 PipelineConfig ExtraSourceConfig(const PipelineConfig& config) {
   PipelineConfig e = config;
   e.ransac.estimator = config.hypotheses.estimator;

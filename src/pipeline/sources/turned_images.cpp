@@ -45,8 +45,9 @@ class TurnedImagesSource : public PoseSource {
       return std::nullopt;
     }
     Proposal p;
-    p.path =
-        "image-turned-" + std::to_string(90 * turned.quarter_turns) + " " + config.ransac.estimator;
+    constexpr PathSource kTurns[] = {PathSource::kImageTurned90, PathSource::kImageTurned180,
+                                     PathSource::kImageTurned270};
+    p.path = {kTurns[turned.quarter_turns - 1], PathEstimatorOf(config.ransac.estimator)};
     p.correspondences = std::move(turned.correspondences);
     p.effective = config;
     // May be valid in degenerate geometry, where the image correspondences fix the open motion;

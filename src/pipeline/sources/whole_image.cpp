@@ -20,7 +20,7 @@ class WholeImageSource : public PoseSource {
       return std::nullopt;
     }
     Proposal p;
-    p.path = "image " + h.estimator;
+    p.path = {PathSource::kImage, PathEstimatorOf(h.estimator)};
     p.correspondences = pair.whole_image->Get();
     p.effective = ExtraSourceConfig(pair.config);
     p.keep = {/*fraction_always=*/false, /*min_kept=*/4};
