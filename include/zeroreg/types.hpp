@@ -191,6 +191,7 @@ enum class PathSource {
   kImageTurned90,    // "image-turned-90": the source's images turned by a quarter turn
   kImageTurned180,   // "image-turned-180"
   kImageTurned270,   // "image-turned-270"
+  kViewSynthesis,    // "view-synthesis": the source's image against the target rendered
   kPrior,            // "prior": ICP from the caller's MotionPrior
 };
 // The estimator an extra source names after its source ("image clique"); kMethod: the method's

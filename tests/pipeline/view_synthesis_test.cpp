@@ -55,14 +55,14 @@ TEST(ViewSynthesis, RegistersARevisitNoOtherSourceRegisters) {
   without.hypotheses.view_synthesis = false;
   const RegistrationResult before = Register(source, target, without);
   EXPECT_FALSE(before.valid && right(before))
-      << "the pair no longer tests the source: " << before.path << ": " << before.reason;
-  EXPECT_FALSE(before.valid && !right(before)) << before.path << ": " << before.reason;
+      << "the pair no longer tests the source: " << PathName(before.path) << ": " << before.reason;
+  EXPECT_FALSE(before.valid && !right(before)) << PathName(before.path) << ": " << before.reason;
 
   const RegistrationResult after = Register(source, target, PipelineConfig());
   ASSERT_TRUE(after.valid) << after.reason;
   EXPECT_TRUE(right(after)) << RotationErrorDeg(after.T_target_source, gt) << " deg, "
                             << TranslationErrorM(after.T_target_source, gt) << " m";
-  EXPECT_EQ(after.path.rfind("view-synthesis", 0), 0u) << after.path;
+  EXPECT_EQ(after.path.source, PathSource::kViewSynthesis) << PathName(after.path);
   ASSERT_TRUE(after.rendered_view.has_value());
   EXPECT_EQ(after.rendered_view->source_view, 0);
   const cv::Mat picture = DrawSynthesizedView(source, target, after);

@@ -161,7 +161,7 @@ class ViewSynthesisSource : public PoseSource {
       if (m.inliers > best.inliers) best = std::move(m);
     }
     Proposal p;
-    p.path = "view-synthesis " + config.ransac.estimator;
+    p.path = {PathSource::kViewSynthesis, PathEstimatorOf(config.ransac.estimator)};
     p.correspondences = std::move(best.correspondences);
     p.rendered_view = RenderedCamera{best.camera.source_view, best.camera.T_target_camera,
                                      s.scan.views[v].intrinsics, best.camera.from};
