@@ -560,6 +560,24 @@ struct HypothesesConfig {
   // scripts/bench-negatives.py --low-band 0.02 0.30); the right turns of
   // scripts/bench-conditions.py led with 4 to 442. 0 = the best turn whatever its score.
   int turned_min_matches = 4;
+  // (f) when nothing above is valid: the target scan rendered (a mesh of each view's depth grid,
+  // z-buffered, holes left as holes) into the source camera as each candidate checked so far
+  // places it, valid or not (near-duplicates merged; with none, the target's cameras swung
+  // +-30 and +-60 deg about the vertical through the surface they see), XFeat on the renderings,
+  // the source's image matched against them; the camera whose matches most agree on one motion
+  // is kept, rendered once more from that motion when it moved, and its correspondences (each
+  // rendered pixel is a target point) are estimated as the fallback's are. Image features stop
+  // matching beyond 40-50 deg of viewpoint change; from a pose 20-30 deg off the change left is
+  // small (docs/CONFIG.md "View synthesis (f)").
+  bool view_synthesis = true;
+  // (f) renders and matches at most this many candidates' cameras (plus one iteration).
+  int synthesis_max_cameras = 4;
+  // (f) the fixed set of swung target cameras is rendered as well as the candidates' (false: only
+  // when no candidate gives a camera).
+  bool synthesis_orbits = false;
+  // (f) a rendering covering less of the image than this is not matched (its features would be
+  // few and on the holes' edges).
+  double synthesis_min_covered = 0.15;
   // Estimator of the extra sources (same names as ransac.estimator). "clique": FPFH matches are
   // mostly wrong at wide baselines (a few percent right), below what RANSAC samples reliably.
   // "ransac" here gave three valid-but-wrong results on HoloLens (geometry source, 12-18

@@ -153,6 +153,15 @@ struct CandidateSummary {
   bool outside_prior = false;  // passed, but beyond the caller's MotionPrior (so not valid)
 };
 
+// A camera the target scan was rendered into (src/synthesis): the source view whose image was
+// matched against the rendering, where the camera was put, and what put it there.
+struct RenderedCamera {
+  int source_view = 0;
+  Transform T_target_camera = Transform::Identity();  // virtual camera -> target scan frame
+  Intrinsics intrinsics;                              // the source view's
+  std::string from;  // the hypothesis it was rendered from ("image-fallback ransac", "orbit ...")
+};
+
 // Which test made a result not valid, with what it measured and the threshold it missed (units
 // per test below). RegistrationResult::reason is the prose; this is what decides.
 enum class RefusalTest {
@@ -198,6 +207,7 @@ enum class PathSource {
   kImageTurned90,    // "image-turned-90": the source's images turned by a quarter turn
   kImageTurned180,   // "image-turned-180"
   kImageTurned270,   // "image-turned-270"
+  kViewSynthesis,    // "view-synthesis": the source's image against the target rendered
   kPrior,            // "prior": ICP from the caller's MotionPrior
   kTurned90,         // "turned-90": the reported pose turned about the vertical (ambiguity test)
   kTurned180,        // "turned-180"
@@ -260,6 +270,10 @@ struct RegistrationResult {
   // stay listed (outside_prior).
   bool ambiguous = false;
   std::vector<Alternative> alternatives;
+  // Path "view-synthesis": the virtual camera the target was rendered into; the correspondences'
+  // target pixels are pixels of that rendering (target_view -1), their source pixels are in
+  // source view `source_view`.
+  std::optional<RenderedCamera> rendered_view;
 };
 
 }  // namespace zeroreg

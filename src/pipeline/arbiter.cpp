@@ -265,6 +265,12 @@ void Arbiter::MoreSources(Judged* held) {
       result->valid ||
       std::any_of(tried.begin(), tried.end(), [](const Judged& j) { return j.result.valid; });
   if (!any_valid) ask_class(CostClass::kTurned);
+  // The renderings start from every pose checked so far, valid or not.
+  pair_.candidates = &log_;
+  const bool any_valid_now =
+      result->valid ||
+      std::any_of(tried.begin(), tried.end(), [](const Judged& j) { return j.result.valid; });
+  if (!any_valid_now) ask_class(CostClass::kSynthesis);
 
   const bool held_valid = result->valid;
   int best = -1, disagreeing = 0;

@@ -235,6 +235,10 @@ void Visit(V& v, HypothesesConfig& c) {
   v("objects", c.objects);
   v("turned_images", c.turned_images);
   v("turned_min_matches", c.turned_min_matches, AtLeast(0));
+  v("view_synthesis", c.view_synthesis);
+  v("synthesis_max_cameras", c.synthesis_max_cameras, AtLeast(1));
+  v("synthesis_orbits", c.synthesis_orbits);
+  v("synthesis_min_covered", c.synthesis_min_covered, Fraction());
   v("estimator", c.estimator);
   v("min_inlier_ratio", c.min_inlier_ratio, Fraction());
   v("geometry_voxel_m", c.geometry_voxel_m, Positive());
@@ -661,6 +665,12 @@ json ResultToJson(const RegistrationResult& r, bool include_correspondences) {
          {"outside_prior", a.outside_prior}});
   }
   j["alternatives"] = alternatives;
+  if (r.rendered_view) {
+    const RenderedCamera& c = *r.rendered_view;
+    j["rendered_view"] = {{"source_view", c.source_view},
+                          {"T_target_camera", TransformToJson(c.T_target_camera)},
+                          {"from", c.from}};
+  }
   if (!r.source_objects.empty() || !r.target_objects.empty()) {
     json matches = json::array();
     for (const ObjectMatchSummary& m : r.object_matches) {

@@ -390,6 +390,7 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
   Judged out;
   RegistrationResult& r = out.result;
   r.path = p.path;
+  r.rendered_view = p.rendered_view;
   const PipelineConfig& e = p.effective;
   if (p.pose) {
     // A pose without correspondences (the motion prior): its own evidence, judged by the check.

@@ -48,6 +48,8 @@ struct Proposal {
   // The correspondences come from no image (geometry, centroids): the images must agree where
   // the depth does (hypotheses.min_brightness_rank_correlation).
   bool images_must_agree = false;
+  // View synthesis: the virtual camera the correspondences' target pixels are in.
+  std::optional<RenderedCamera> rendered_view;
 };
 
 // A judged candidate: the finished result and, where a source's own test overrode a passing

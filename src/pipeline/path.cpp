@@ -41,6 +41,9 @@ std::string PathName(const Path& path) {
     case PathSource::kImageTurned270:
       name = "image-turned-270";
       break;
+    case PathSource::kViewSynthesis:
+      name = "view-synthesis";
+      break;
     case PathSource::kPrior:
       name = "prior";
       break;

@@ -11,6 +11,7 @@
 
 #include "estimate/lift.hpp"
 #include "io/image_codec.hpp"
+#include "synthesis/render.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
@@ -112,6 +113,41 @@ cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
   char text[160];
   std::snprintf(text, sizeof(text), "%d RANSAC inliers (green), %d outliers (red); path %s",
                 inliers, outliers, PathName(result.path).c_str());
+  Caption(canvas, text);
+  return canvas;
+}
+
+cv::Mat DrawSynthesizedView(const Scan& source, const Scan& target,
+                            const RegistrationResult& result) {
+  if (!result.rendered_view) return cv::Mat();
+  const RenderedCamera& camera = *result.rendered_view;
+  const View& a = source.views[static_cast<size_t>(camera.source_view)];
+  View rendered;
+  rendered.color = RenderScan(target, camera.T_target_camera, camera.intrinsics).color;
+  cv::Mat canvas = SideBySide(a, rendered);
+  const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
+  int inliers = 0, outliers = 0;
+  for (int pass = 0; pass < 2; ++pass) {  // outliers first, inliers on top
+    for (size_t i = 0; i < result.correspondences.size(); ++i) {
+      const Correspondence& c = result.correspondences[i];
+      if (c.view != camera.source_view || c.target_view != -1) continue;
+      const bool inlier = i < result.is_inlier.size() && result.is_inlier[i];
+      if (inlier != (pass == 1)) continue;
+      (inlier ? inliers : outliers)++;
+      const cv::Point2f p(c.source_pixel.x(), c.source_pixel.y());
+      const cv::Point2f q = cv::Point2f(c.target_pixel.x(), c.target_pixel.y()) + offset;
+      const cv::Scalar colour = inlier ? cv::Scalar(60, 200, 60) : cv::Scalar(40, 40, 230);
+      cv::line(canvas, p, q, colour, 1, cv::LINE_AA);
+      cv::circle(canvas, p, 2, colour, -1);
+      cv::circle(canvas, q, 2, colour, -1);
+    }
+  }
+  char text[240];
+  std::snprintf(text, sizeof(text),
+                "source view %d | target rendered from %s: %d inliers (green), %d outliers (red); "
+                "%s",
+                camera.source_view, camera.from.c_str(), inliers, outliers,
+                result.valid ? "valid" : "not valid");
   Caption(canvas, text);
   return canvas;
 }
@@ -257,8 +293,9 @@ cv::Mat DrawAlternatives(const Scan& source, const Scan& target, const Registrat
 
 bool IsRegistrationPictureName(const std::string& file_name) {
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification|hypotheses|ambiguous)-view[0-9]+(-[0-9]+)?"
-      "\\.(png|"
+      "(objects|correspondences|registered|verification|hypotheses|ambiguous|synthesized)-view[0-9]"
+      "+"
+      "(-[0-9]+)?\\.(png|"
       "jpg)");
   return std::regex_match(file_name, name_re);
 }
@@ -305,6 +342,11 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     write("verification-view" + std::to_string(v) + ".png",
           DrawVerification(source, target, result, verify, static_cast<int>(v)));
   }
+  if (result.rendered_view && result.rendered_view->source_view >= 0 &&
+      result.rendered_view->source_view < static_cast<int>(source.views.size())) {
+    write("synthesized-view" + std::to_string(result.rendered_view->source_view) + ".png",
+          DrawSynthesizedView(source, target, result));
+  }
   // The winning hypothesis and its runners-up, when there was a choice.
   if (result.candidates.size() > 1) {
     for (size_t v = 0; v < target.views.size(); ++v) {
@@ -326,7 +368,8 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
     if (c.view != c.target_view) cross_pairs.emplace(c.view, c.target_view);
   }
   for (const auto& [vs, vt] : cross_pairs) {
-    if (vs >= static_cast<int>(source.views.size()) ||
+    // Target view -1: pixels of a rendering (synthesized-view<i>.png shows them).
+    if (vs >= static_cast<int>(source.views.size()) || vt < 0 ||
         vt >= static_cast<int>(target.views.size())) {
       continue;
     }

@@ -11,6 +11,9 @@
 //                               image dimmed, each source depth sample where it lands, green
 //                               where the surfaces agree, red where it lies in the free space the
 //                               target camera saw through, yellow where it is hidden behind;
+//   synthesized-view<i>.png     view synthesis (path "view-synthesis"): source view i beside the
+//                               target rendered into the virtual camera whose matches were used,
+//                               the correspondences drawn between them;
 //   hypotheses-view<i>.png      when several candidate transforms were checked: the
 //                               registered clouds under the chosen one and its runners-up (best
 //                               verification score first), each captioned with its source, score
@@ -37,6 +40,11 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
                              const Transform& T_target_source, int view);
 cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
                          const VerifyConfig& config, int view);
+
+// The source view beside the target rendered into result.rendered_view's virtual camera, with
+// the correspondences between them (RANSAC inliers green, outliers red); empty without one.
+cv::Mat DrawSynthesizedView(const Scan& source, const Scan& target,
+                            const RegistrationResult& result);
 
 // The chosen candidate and up to max_candidates - 1 runners-up, two registered-cloud tiles a row.
 cv::Mat DrawHypotheses(const Scan& source, const Scan& target, const RegistrationResult& result,

@@ -231,9 +231,8 @@ std::vector<Picture> FindPictures(const std::string& dir) {
   std::error_code ec;
   if (dir.empty() || !fs::is_directory(fs::symlink_status(dir, ec))) return found;
   static const std::regex name_re(
-      "(objects|correspondences|registered|verification|hypotheses|ambiguous)-view([0-9]+)(?:-([0-"
-      "9]+))?"
-      "\\.("
+      "(objects|correspondences|registered|verification|hypotheses|ambiguous|synthesized)-view([0-"
+      "9]+)(?:-([0-9]+))?\\.("
       "png|jpg)");
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     std::smatch m;
@@ -267,6 +266,10 @@ std::string PictureCaption(const std::string& kind) {
   if (kind == "ambiguous") {
     return "two poses fit these scans (ambiguous): the registered clouds under each, the reported "
            "one first (target blue, source orange)";
+  }
+  if (kind == "synthesized") {
+    return "view synthesis: the source image beside the target rendered from the virtual camera "
+           "whose matches registered it (inliers green, outliers red)";
   }
   if (kind == "hypotheses") {
     return "the candidate transforms the check judged: the chosen one first, then the runners-up "

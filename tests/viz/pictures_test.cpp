@@ -60,6 +60,34 @@ TEST(Pictures, CrossViewCorrespondencesGetTheirOwnPicture) {
   EXPECT_EQ(picture.at<cv::Vec3b>(30, 100), cv::Vec3b(40, 40, 40));  // view pair 0-0 not drawn
 }
 
+// A view-synthesis result: its correspondences' target pixels are in a rendering (target view
+// -1), drawn in synthesized-view<i>.png beside the source image; no correspondence picture is
+// asked of a target view that does not exist.
+TEST(Pictures, SynthesizedViewShowsTheRenderingBesideTheSourceImage) {
+  const Scan source = GreyScan("s", 1, 40), target = GreyScan("t", 1, 100);
+  RegistrationResult result;
+  result.correspondences = {Match(0, -1, 30), Match(0, -1, 50)};
+  result.is_inlier = {true, false};
+  result.rendered_view =
+      RenderedCamera{0, Transform::Identity(), {150.0, 150.0, 80.0, 60.0, 160, 120}, "test"};
+  const fs::path dir = fs::path(::testing::TempDir()) / "zeroreg-pictures-synthesized";
+  fs::remove_all(dir);
+  WriteRegistrationPictures(dir.string(), source, target, result);
+  EXPECT_TRUE(fs::exists(dir / "synthesized-view0.png"));
+  EXPECT_TRUE(IsRegistrationPictureName("synthesized-view0.png"));
+  for (const auto& entry : fs::directory_iterator(dir)) {
+    EXPECT_EQ(entry.path().filename().string().find("view0--1"), std::string::npos);
+  }
+  // Left the source image (shade 40), right the target rendered from its own camera (shade 100),
+  // the inlier green across at y = 30, the outlier red at y = 50.
+  const cv::Mat picture = DrawSynthesizedView(source, target, result);
+  ASSERT_EQ(picture.cols, 320);
+  EXPECT_EQ(picture.at<cv::Vec3b>(10, 10), cv::Vec3b(40, 40, 40));
+  EXPECT_EQ(picture.at<cv::Vec3b>(10, 300), cv::Vec3b(100, 100, 100));
+  EXPECT_GT(picture.at<cv::Vec3b>(30, 100)[1], 150);
+  EXPECT_GT(picture.at<cv::Vec3b>(50, 100)[2], 150);
+}
+
 // The verification picture colours each source depth sample by what the check found: a source
 // plane 0.5 m in front of the target's plane (identity transform) lies in the target camera's free
 // space (red); the same plane registered onto it agrees (green).

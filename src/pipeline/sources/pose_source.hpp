@@ -14,6 +14,7 @@
 #include "pipeline/judge.hpp"
 #include "pipeline/prepared.hpp"
 #include "point_match/descriptor_matcher.hpp"
+#include "synthesis/virtual_cameras.hpp"
 
 namespace zeroreg {
 
@@ -24,10 +25,11 @@ enum class CostClass {
   kWholeImage = 1,  // the same features matched over the whole images (one matching)
   kExtra = 2,       // other estimators and features: clique on the same matches, FPFH, centroids
   kTurned = 3,      // three more feature extractions per view (cached per scan), one matching
-  kPrior = 4,       // ICP from the caller's motion prior: no correspondence pins it
+  kSynthesis = 4,   // the target rendered into a few virtual cameras, features of each rendering
+  kPrior = 5,       // ICP from the caller's motion prior: no correspondence pins it
   // Asked only by the ambiguity test, for a second pose away from a valid one (PairInputs::first):
   // turns of it, then ICP.
-  kSecondPose = 5,
+  kSecondPose = 6,
 };
 
 // What a source reads of the pair (its `needs` says which parts).
@@ -72,6 +74,8 @@ struct PairInputs {
   const PipelineConfig* method_effective = nullptr;  // the method's thresholds (Table 4 row b)
   // kSecondPose: the valid result a second pose is sought away from.
   const RegistrationResult* first = nullptr;
+  // Every candidate checked so far (the arbiter's log): pose hypotheses to render from.
+  const std::vector<CandidateSummary>* candidates = nullptr;
 };
 
 class PoseSource {
@@ -103,6 +107,23 @@ std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Sc
 
 // One centroid correspondence per same-label object pair, plus every matched pair.
 std::vector<Correspondence> ObjectPairCorrespondences(const RegistrationResult& result);
+
+// The source view's features matched against the target rendered into `camera` (view synthesis),
+// with the RANSAC inliers of one motion among them (exposed for tests).
+struct SynthesizedMatches {
+  std::vector<Correspondence> correspondences;  // target pixels in the rendering, target_view -1
+  double covered = 0;                           // fraction of the rendering with surface
+  int rendered_keypoints = 0;                   // usable keypoints of the rendering
+  int inliers = 0;
+  Transform T_target_source = Transform::Identity();
+  VirtualCamera camera;
+};
+// Only cameras whose rendering covers at least `min_covered` of the image are matched.
+SynthesizedMatches MatchRenderedView(const Scan& target, const VirtualCamera& camera,
+                                     const Intrinsics& K, const LiftedFeatures& source_features,
+                                     const FeatureExtractor& extractor,
+                                     const DescriptorMatcher& matcher, const PipelineConfig& config,
+                                     double min_covered);
 
 // ICP from the caller's motion prior (path "prior", "prior icp" once ICP moved it).
 std::unique_ptr<PoseSource> MakePriorSource();

@@ -9,6 +9,7 @@ std::unique_ptr<PoseSource> MakeGeometrySource();
 std::unique_ptr<PoseSource> MakeCentroidSource();
 std::unique_ptr<PoseSource> MakeTurnedImagesSource();
 std::vector<std::unique_ptr<PoseSource>> MakeTurnedPoseSources();
+std::unique_ptr<PoseSource> MakeViewSynthesisSource();
 
 std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost) {
   std::vector<std::unique_ptr<PoseSource>> out;
@@ -19,6 +20,8 @@ std::vector<std::unique_ptr<PoseSource>> MakeSources(CostClass cost) {
     out.push_back(MakeCentroidSource());
   } else if (cost == CostClass::kTurned) {
     out.push_back(MakeTurnedImagesSource());
+  } else if (cost == CostClass::kSynthesis) {
+    out.push_back(MakeViewSynthesisSource());
   } else if (cost == CostClass::kPrior) {
     out.push_back(MakePriorSource());
   } else if (cost == CostClass::kSecondPose) {
