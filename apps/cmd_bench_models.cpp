@@ -91,22 +91,22 @@ Runner AddBenchModelsCommand(CLI::App& app) {
       InferenceConfig inference = config.inference;
       inference.engine = name;
       ResolveEngine(inference);  // names the engine when unknown or not built in
-      // XFeat as the config runs it on this engine and, where that is the image's own size, also on
-      // the 640x640 square (features.xfeat_square_input), so one run shows what the size costs.
-      std::vector<FeatureConfig> xfeat_configs = {config.features};
-      if (!XFeatExtractor::UsesSquareInput(config.features, inference)) {
-        xfeat_configs.push_back(config.features);
-        xfeat_configs.back().xfeat_square_input = true;
+      // XFeat as the pipeline runs it on this engine and, where that is the image's own size, also
+      // on the 640x640 square (XFeatInput::square), so one run shows what the size costs.
+      std::vector<XFeatInput> xfeat_inputs = {XFeatInput()};
+      if (!XFeatExtractor::UsesSquareInput(inference)) {
+        xfeat_inputs.push_back(XFeatInput());
+        xfeat_inputs.back().square = true;
       }
       std::vector<Row> xfeat_rows;
       std::vector<std::unique_ptr<XFeatExtractor>> extractors;
-      for (const FeatureConfig& features : xfeat_configs) {
-        const bool square = XFeatExtractor::UsesSquareInput(features, inference);
+      for (const XFeatInput& input : xfeat_inputs) {
+        const bool square = XFeatExtractor::UsesSquareInput(inference, input);
         xfeat_rows.push_back(
             {square ? "xfeat (640x640)" : "xfeat (image size)", name, "image", {}});
         extractors.push_back(std::make_unique<XFeatExtractor>(
-            RequireAsset(assets, XFeatExtractor::ModelFile(features, inference)), features,
-            inference));
+            RequireAsset(assets, XFeatExtractor::ModelFile(inference, input)), config.features,
+            inference, input));
       }
       Row ry{"yolox-nano (416x416)", name, "image", {}};
       YoloxDetector detector(yolox, classes, config.detector, inference);

@@ -14,21 +14,6 @@ struct FeatureConfig {
   int max_keypoints = 4096;       // per image, strongest first (XFeat upstream top-k)
   // XFeat: minimum keypoint heatmap probability (upstream detection threshold).
   double xfeat_detection_threshold = 0.05;
-  // XFeat's fixed 640x640 input: true = scale the image uniformly to fit and fill the rest (keeps
-  // the aspect ratio); false = stretch it to the square (the earlier rule; a 540x360
-  // HoloLens frame is stretched 1.19x / 1.78x). Kept as a switch for the ablation in CONFIG.md.
-  bool xfeat_keep_aspect = true;
-  // XFeat's input size. false = the scaled image padded only to multiples of 32 (a 640x480 frame
-  // runs at 640x480), through the export rewritten for any size (xfeat/xfeat_any_size.onnx,
-  // scripts/rewrite_onnx_xfeat.py); true = padded to the export's fixed 640x640 (the earlier
-  // change: a quarter of a 640x480 frame's XFeat work went to the fill). Stretching
-  // (xfeat_keep_aspect false) always uses the square.
-  bool xfeat_square_input = false;
-  // At the image's own size: true = the network normalises the image as it did on the padded
-  // square (the flat fill diluted the grey variance, raising the contrast the network saw by
-  // sqrt(640 x 640 / input area): 1.15 for 640x480), so the features are those every default was
-  // measured with; false = by the image's own variance, as upstream XFeat does.
-  bool xfeat_square_contrast = true;
   // SIFT: OpenCV contrast threshold (OpenCV default 0.04).
   double sift_contrast_threshold = 0.04;
 };
@@ -52,9 +37,6 @@ struct LiftConfig {
   // The a of the view being lifted (metres at 1 m), set per view by the pipeline (LiftForView);
   // not a setting (not read from or written to JSON). 0 = unknown: no noise floor.
   double view_depth_noise_at_1m_m = 0.0;
-  // true: an invalid pixel within the radius also makes an edge (the earlier rule; for the
-  // ablation in docs/CONFIG.md).
-  bool holes_are_edges = false;
 };
 
 struct SinkhornConfig {
@@ -176,10 +158,9 @@ struct ObjectMatchConfig {
   // (docs/MATCHING.md "Matches the result supports").
   bool agree_with_result = true;
   // Approximate solver: number of Frank-Wolfe starts (barycentre, node-only assignment, then
-  // seeded random interior points) and Frank-Wolfe iterations per start.
+  // random interior points drawn from PipelineConfig::seed) and Frank-Wolfe iterations per start.
   int restarts = 6;
   int iterations = 60;
-  std::uint64_t seed = 0;  // random starts of the approximate solver
 };
 
 // Object detection (paper §3.2, "Object Detection and Segmentation").
@@ -316,9 +297,6 @@ struct SegmenterConfig {
   // failed and the depth layer inside the box (around the median depth of its central part) is
   // returned instead.
   double min_box_fraction = 0.1;
-  // GrabCut's GMM initialisation (k-means++) draws from cv::theRNG(); it is reset to this seed
-  // before every box, so a mask does not depend on what ran before it.
-  std::uint64_t seed = 0;
   // "file" backend: folder of <image stem>_<index>.png masks (docs/PERCEPTION.md).
   std::string masks_dir;
 };
@@ -399,11 +377,6 @@ struct RefineConfig {
   // when the check accepted the estimate; an estimate it refused leaves ICP to the check alone.
   double min_kept_inlier_fraction = 0.5;
   double anchor_weight_fine = 0.0;
-  // Weigh each anchor and each closest-point pair by the inverse variance of its kind, measured
-  // at every iterate (a Gaussian maximum-likelihood fit of both), instead of the fixed shares
-  // above; anchor_weight_coarse / _fine then scale that weight and 0 still switches a stage's
-  // anchors off.
-  bool anchor_inverse_variance = false;
   // Every closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), the inverse variance of
   // the axial depth noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth
   // readings (metres at 1 m; the structured-light model and value of VerifyConfig, Khoshelham &
@@ -696,7 +669,9 @@ struct PipelineConfig {
   ObjectMatchConfig object_match;
   MethodConfig method;
   HypothesesConfig hypotheses;
-  std::uint64_t seed = 0;  // every random step derives its seed from this
+  // Every random step derives its seed from this one (RANSAC, the object matcher's random starts,
+  // GrabCut's GMM initialisation); there is no other seed setting.
+  std::uint64_t seed = 0;
   std::string assets_dir;  // empty: $ZEROREG_ASSETS, <repo>/assets, installed (assets.hpp)
   // Threads one registration may use: Register(Scan, Scan) prepares the two scans concurrently,
   // Prepare makes a scan's depth geometry while its images go through the models, and ICP searches

@@ -219,6 +219,9 @@ def test_a_path_argument_of_another_type_is_a_type_error_naming_it():
     "config,seed,parts",
     [
         ({"features": {"max_kp": 10}}, None, ["config", "unknown key 'features.max_kp'"]),
+        ({"object_match": {"seed": 3}}, None,
+         ["config", "object_match.seed was removed", "top-level \"seed\""]),
+        ({"lift": {"holes_are_edges": True}}, None, ["config", "lift.holes_are_edges was removed"]),
         ({"ransac": {"inlier_threshold_m": "5cm"}}, None,
          ["config", "ransac.inlier_threshold_m is \"5cm\"", "expected a number > 0"]),
         ({"ransac": {"confidence": 1.5}}, None, ["config", "ransac", "confidence", "(0, 1)"]),

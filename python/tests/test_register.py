@@ -292,12 +292,18 @@ def test_motion_prior(pipeline, result_20_0_from_paths, gt_20_0):
     far[:3, 3] += [1.0, 0.0, 0.0]
     r = pipeline.register(frame_spec(20), frame_spec(0), prior=far, prior_max_translation_m=0.2)
     assert not r.valid and r.outside_prior  # the check passed; the prior refused it
-    assert "from the motion prior (tolerance 15.0 deg, 20.0 cm)" in r.reason, r.reason
+    # The refusal as data: the translation from the prior (about the 1 m it is off) beyond 0.2 m.
+    assert r.refusal["test"] == "outside_prior" and r.refusal["threshold"] == 0.2, r.refusal
+    assert 0.8 < r.refusal["measured"] < 1.2, r.refusal
     # The prior refused the method's estimate, so the fallback and every hypothesis ran, each
-    # refused by the prior too, and ICP from the prior (1 m off) found no agreement.
+    # passed by the check and refused by the prior, and ICP from the prior (1 m off) was judged
+    # and not taken.
+    candidates = r.to_dict()["candidates"]
     for source in ("image-fallback", "object clique", "geometry clique"):
-        assert f"{source}: outside the motion prior" in r.reason, r.reason
-    assert "[motion prior: ICP from it is not valid either" in r.reason, r.reason
+        assert any(c["name"].startswith(source) and c["passed"] and c["outside_prior"]
+                   for c in candidates), (source, candidates)
+    assert any(c["name"] == "prior" and not c["chosen"] for c in candidates), candidates
+    assert "hypothesis prior" in r.timings, r.timings
     with pytest.raises(ValueError) as error:
         pipeline.register(frame_spec(20), frame_spec(0), prior=2 * np.eye(4))
     assert "prior" in str(error.value)

@@ -161,7 +161,7 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
     Eigen::Matrix<double, 6, 6> JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int matched = 0;
-    double sum_sq = 0, sum_plane_sq = 0, sum_weight = 0;
+    double sum_sq = 0, sum_weight = 0;
     for (size_t i = 0; i < source.size(); ++i) {
       if (nearest[i] < 0) continue;
       const Eigen::Vector3d& p = moved[i];
@@ -177,7 +177,6 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
       JtJ += weight * J * J.transpose();
       Jtr += weight * J * r;
       sum_weight += weight;
-      sum_plane_sq += r * r;
       ++matched;
       sum_sq += nearest_sq[i];
     }
@@ -188,7 +187,6 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
     Eigen::Matrix<double, 6, 6> anchor_JtJ = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> anchor_Jtr = Eigen::Matrix<double, 6, 1>::Zero();
     int anchored = 0;
-    double anchor_sum_sq = 0;
     for (size_t k = 0; stage.anchor_weight > 0 && k < anchors.source.size(); ++k) {
       const Eigen::Vector3d p = (*T * anchors.source[k].homogeneous()).head<3>();
       const Eigen::Vector3d r = p - anchors.target[k];
@@ -197,21 +195,10 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
       J << -SkewSymmetric(p), Eigen::Matrix3d::Identity();
       anchor_JtJ += J.transpose() * J;
       anchor_Jtr += J.transpose() * r;
-      anchor_sum_sq += r.squaredNorm();
       ++anchored;
     }
     if (anchored > 0) {
-      double w = stage.anchor_weight * std::max(1.0, sum_weight) / (3.0 * anchored);
-      if (stage.inverse_variance) {
-        // Per-residual variances of the two kinds at this iterate, floored at (1 mm)^2, the
-        // depth quantisation near the camera, so a perfect fit of either does not take over.
-        constexpr double kMinVariance = 1e-6;
-        const double plane_variance =
-            std::max(kMinVariance, matched > 0 ? sum_plane_sq / matched : kMinVariance);
-        const double anchor_variance = std::max(kMinVariance, anchor_sum_sq / (3.0 * anchored));
-        // Relative to the mean closest-point weight (1 without depth-noise weights).
-        w = stage.anchor_weight * plane_variance / anchor_variance * (sum_weight / matched);
-      }
+      const double w = stage.anchor_weight * std::max(1.0, sum_weight) / (3.0 * anchored);
       JtJ += w * anchor_JtJ;
       Jtr += w * anchor_Jtr;
     }
@@ -237,14 +224,13 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
 }  // namespace
 
 std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
-  const bool iv = config.anchor_inverse_variance;
   const double noise = config.depth_noise_at_1m_m, power = config.depth_noise_exponent;
   return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
-           config.anchor_weight_coarse, iv, noise, power},
+           config.anchor_weight_coarse, noise, power},
           {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine,
-           iv, noise, power},
+           noise, power},
           {config.voxel_m, config.max_distance_final_m, config.max_iterations,
-           config.anchor_weight_fine, iv, noise, power}};
+           config.anchor_weight_fine, noise, power}};
 }
 
 IcpResult RefinePointToPlane(const IcpGeometry& source, const IcpGeometry& target,

@@ -29,8 +29,6 @@ struct IcpStage {
   // Total weight of the IcpAnchors in this stage's gate relative to all its closest-point pairs
   // (0 = not used).
   double anchor_weight = 0.0;
-  // anchor_weight scales the inverse-variance weight (RefineConfig::anchor_inverse_variance).
-  bool inverse_variance = false;
   // > 0: each closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), with the axial depth
   // noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth readings
   // (RefineConfig); 0: equal weights.

@@ -38,7 +38,7 @@ std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f
   for (int y = std::max(0, v - r); y <= std::min(depth.rows - 1, v + r); ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {
-      if (row[x] <= 0.0f ? config.holes_are_edges : std::abs(row[x] - z) > tolerance) {
+      if (row[x] > 0.0f && std::abs(row[x] - z) > tolerance) {
         return std::nullopt;
       }
     }

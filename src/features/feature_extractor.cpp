@@ -25,8 +25,7 @@ std::unique_ptr<FeatureExtractor> MakeFeatureExtractor(const FeatureConfig& conf
                                                        const std::string& assets_dir,
                                                        const InferenceConfig& inference) {
   if (config.backend == "xfeat") {
-    const std::string model =
-        RequireAsset(assets_dir, XFeatExtractor::ModelFile(config, inference));
+    const std::string model = RequireAsset(assets_dir, XFeatExtractor::ModelFile(inference));
     return std::make_unique<XFeatExtractor>(model, config, inference);
   }
   if (config.backend == "sift") return std::make_unique<SiftExtractor>(config);

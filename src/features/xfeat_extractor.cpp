@@ -32,9 +32,10 @@ void SampleBilinear(const float* blob, int channels, int height, int width, floa
 }  // namespace
 
 XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfig& config,
-                               const InferenceConfig& inference)
+                               const InferenceConfig& inference, XFeatInput input)
     : config_(config),
-      square_input_(UsesSquareInput(config, inference)),
+      input_(input),
+      square_input_(UsesSquareInput(inference, input)),
       model_(LoadOnnxModel(model_path,
                            square_input_ ? "XFeat ONNX model (expected xfeat_640x640.onnx from "
                                            "models/xfeat)"
@@ -42,16 +43,13 @@ XFeatExtractor::XFeatExtractor(const std::string& model_path, const FeatureConfi
                                            "by scripts/fetch-assets.sh)",
                            inference)) {}
 
-bool XFeatExtractor::UsesSquareInput(const FeatureConfig& config,
-                                     const InferenceConfig& inference) {
-  return config.xfeat_square_input || !config.xfeat_keep_aspect ||
-         ResolveEngine(inference) == InferenceEngine::kOpenCv;
+bool XFeatExtractor::UsesSquareInput(const InferenceConfig& inference, const XFeatInput& input) {
+  return input.square || ResolveEngine(inference) == InferenceEngine::kOpenCv;
 }
 
-std::string XFeatExtractor::ModelFile(const FeatureConfig& config,
-                                      const InferenceConfig& inference) {
-  return UsesSquareInput(config, inference) ? "xfeat/xfeat_640x640.onnx"
-                                            : "xfeat/xfeat_any_size.onnx";
+std::string XFeatExtractor::ModelFile(const InferenceConfig& inference, const XFeatInput& input) {
+  return UsesSquareInput(inference, input) ? "xfeat/xfeat_640x640.onnx"
+                                           : "xfeat/xfeat_any_size.onnx";
 }
 
 cv::Size XFeatExtractor::InputSize(const cv::Size& image, bool square_input) {
@@ -78,12 +76,8 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   // keypoints; any found within a cell of it are dropped below.
   const double scale = std::min(static_cast<double>(kInputSize) / bgr.cols,
                                 static_cast<double>(kInputSize) / bgr.rows);
-  const int width = config_.xfeat_keep_aspect
-                        ? std::min(n_x, static_cast<int>(std::lround(bgr.cols * scale)))
-                        : n_x;
-  const int height = config_.xfeat_keep_aspect
-                         ? std::min(n_y, static_cast<int>(std::lround(bgr.rows * scale)))
-                         : n_y;
+  const int width = std::min(n_x, static_cast<int>(std::lround(bgr.cols * scale)));
+  const int height = std::min(n_y, static_cast<int>(std::lround(bgr.rows * scale)));
   cv::Mat padded(n_y, n_x, CV_8UC3, cv::mean(bgr));
   if (width == bgr.cols && height == bgr.rows) {
     bgr.copyTo(padded(cv::Rect(0, 0, width, height)));
@@ -100,7 +94,7 @@ ImageFeatures XFeatExtractor::Extract(const cv::Mat& bgr) const {
   // (scripts/rewrite_onnx_xfeat.py). On the square the fill (the image's mean) diluted the grey
   // variance by the fill's share; the same factor here gives the features of the square.
   const float contrast =
-      config_.xfeat_square_contrast
+      input_.square_contrast
           ? static_cast<float>(std::sqrt(static_cast<double>(kInputSize) * kInputSize /
                                          (static_cast<double>(n_x) * n_y)))
           : 1.0f;

@@ -424,13 +424,13 @@ ObjectMatchResult MatchObjectsExact(const Eigen::MatrixXd& W_p, const Eigen::Mat
 
 ObjectMatchResult MatchObjectsApproximate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
                                           const Eigen::MatrixXd& C, const ObjectMatchConfig& config,
-                                          const MatchMask& allowed) {
+                                          const MatchMask& allowed, std::uint64_t seed) {
   const Problem p(W_p, W_q, C, config, allowed);
   if (p.n == 0 || p.m == 0) {
     return MakeResult(p, C, std::vector<int>(p.n, -1), ObjectMatchSolver::kApproximate, 0);
   }
   const Relaxation rel(p);
-  std::mt19937_64 rng(config.seed);
+  std::mt19937_64 rng(seed);
   const Eigen::MatrixXd mask = p.allowed.cast<double>();
   // Barycentre of the padded (n + m) x (n + m) doubly-stochastic polytope, restricted to the
   // allowed pairs (still doubly substochastic).
@@ -477,12 +477,12 @@ ObjectMatchResult MatchObjectsNodeOnly(const Eigen::MatrixXd& W_p, const Eigen::
 
 ObjectMatchResult MatchObjects(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
                                const Eigen::MatrixXd& C, const ObjectMatchConfig& config,
-                               const MatchMask& allowed) {
+                               const MatchMask& allowed, std::uint64_t seed) {
   switch (config.solver) {
     case ObjectMatchSolver::kExact:
       return MatchObjectsExact(W_p, W_q, C, config, allowed);
     case ObjectMatchSolver::kApproximate:
-      return MatchObjectsApproximate(W_p, W_q, C, config, allowed);
+      return MatchObjectsApproximate(W_p, W_q, C, config, allowed, seed);
     case ObjectMatchSolver::kNodeOnly:
       return MatchObjectsNodeOnly(W_p, W_q, C, config, allowed);
     case ObjectMatchSolver::kAuto:
@@ -491,7 +491,7 @@ ObjectMatchResult MatchObjects(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd
   const std::uint64_t count =
       CountPartialInjections(static_cast<int>(W_p.rows()), static_cast<int>(W_q.rows()));
   if (count <= config.max_exact_assignments) return MatchObjectsExact(W_p, W_q, C, config, allowed);
-  return MatchObjectsApproximate(W_p, W_q, C, config, allowed);
+  return MatchObjectsApproximate(W_p, W_q, C, config, allowed, seed);
 }
 
 MatchMask LabelCompatibilityMask(const std::vector<std::string>& labels_source,

@@ -68,9 +68,10 @@ double GraphMatchEnergy(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
 // Solves Eq. 2 (generalised as above) with config.solver. W_p: n x n, W_q: m x m, C: n x m,
 // allowed: empty or n x m (pairs that may match, e.g. LabelCompatibilityMask). Throws InputError
 // for wrong sizes or non-finite values.
+// `seed`: the approximate solver's random starts (PipelineConfig::seed).
 ObjectMatchResult MatchObjects(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
                                const Eigen::MatrixXd& C, const ObjectMatchConfig& config = {},
-                               const MatchMask& allowed = MatchMask());
+                               const MatchMask& allowed = MatchMask(), std::uint64_t seed = 0);
 
 // The individual solvers (MatchObjects dispatches to these).
 ObjectMatchResult MatchObjectsExact(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
@@ -79,7 +80,8 @@ ObjectMatchResult MatchObjectsExact(const Eigen::MatrixXd& W_p, const Eigen::Mat
 ObjectMatchResult MatchObjectsApproximate(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,
                                           const Eigen::MatrixXd& C,
                                           const ObjectMatchConfig& config = {},
-                                          const MatchMask& allowed = MatchMask());
+                                          const MatchMask& allowed = MatchMask(),
+                                          std::uint64_t seed = 0);
 // Ablation "without scene graph": the graphs are ignored (score and energy are still reported with
 // the full objective, for comparison), X maximises sum (alpha C - tau) over partial assignments.
 ObjectMatchResult MatchObjectsNodeOnly(const Eigen::MatrixXd& W_p, const Eigen::MatrixXd& W_q,

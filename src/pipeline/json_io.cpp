@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -68,9 +69,6 @@ void Visit(V& v, FeatureConfig& c) {
   // Matching holds an n x m similarity of floats: 16384 keypoints a side are 1 GiB.
   v("max_keypoints", c.max_keypoints, Iterations(1, 16384));
   v("xfeat_detection_threshold", c.xfeat_detection_threshold, Fraction());
-  v("xfeat_keep_aspect", c.xfeat_keep_aspect);
-  v("xfeat_square_input", c.xfeat_square_input);
-  v("xfeat_square_contrast", c.xfeat_square_contrast);
   v("sift_contrast_threshold", c.sift_contrast_threshold, AtLeast(0));
 }
 template <typename V>
@@ -94,7 +92,6 @@ void Visit(V& v, LiftConfig& c) {
   v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
   v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("edge_noise_sigmas", c.edge_noise_sigmas, AtLeast(0));
-  v("holes_are_edges", c.holes_are_edges);
 }
 template <typename V>
 void Visit(V& v, RansacConfig& c) {
@@ -139,7 +136,6 @@ void Visit(V& v, RefineConfig& c) {
   v("max_distance_final_m", c.max_distance_final_m, Positive());
   v("anchor_weight_coarse", c.anchor_weight_coarse, AtLeast(0));
   v("anchor_weight_fine", c.anchor_weight_fine, AtLeast(0));
-  v("anchor_inverse_variance", c.anchor_inverse_variance);
   v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0.0));
   v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
@@ -293,6 +289,36 @@ class JsonWriter {
   json* out_;
 };
 
+// Settings that were removed, each with what took its place: a config file written for an older
+// zeroreg is refused with this instead of the list of known keys. Each brought back a behaviour
+// the default had replaced (docs/CONFIG.md, "Removed settings"), or was a second seed the
+// pipeline overwrote with `seed`.
+const char* RemovedKey(const std::string& key) {
+  static const std::map<std::string, const char*> kRemoved = {
+      {"features.xfeat_keep_aspect",
+       "was removed: XFeat always scales the image keeping its aspect ratio"},
+      {"features.xfeat_square_input",
+       "was removed: XFeat runs at the image's own size (the 640x640 square only on "
+       "inference.engine \"opencv\")"},
+      {"features.xfeat_square_contrast",
+       "was removed: XFeat always gets the contrast of the 640x640 square"},
+      {"lift.holes_are_edges", "was removed: missing depth is never a keypoint's depth edge"},
+      {"refine.anchor_inverse_variance",
+       "was removed: the anchors keep their fixed share (refine.anchor_weight_coarse, "
+       "refine.anchor_weight_fine)"},
+      {"refine.before_fallback",
+       "was removed: every candidate is refined by ICP before the arbiter compares them"},
+      {"method.label_mask_in_solve", "was removed: the label mask is always part of the solve"},
+      {"object_match.rigidity_tolerance_m",
+       "was removed: object_match.motion_agreement does its work"},
+      {"object_match.seed",
+       "was removed: use the top-level \"seed\", which every random step reads"},
+      {"segmenter.seed", "was removed: use the top-level \"seed\", which every random step reads"},
+  };
+  const auto it = kRemoved.find(key);
+  return it == kRemoved.end() ? nullptr : it->second;
+}
+
 // Reads the keys present in a JSON object into the fields, checking each value's type and range;
 // keys no field claims are an error. Messages read "<source>: <key path> ...", e.g.
 // "my.json: ransac.max_iterations is 0; expected an integer in [1, 2147483647]".
@@ -361,6 +387,9 @@ class JsonReader {
   void Finish() const {
     for (auto it = in_.begin(); it != in_.end(); ++it) {
       if (!claimed_.count(it.key())) {
+        if (const char* removed = RemovedKey(Path(it.key()))) {
+          throw MakeInputError(source_, Path(it.key()) + " " + removed);
+        }
         std::string known;
         for (const std::string& k : claimed_) known += (known.empty() ? "" : ", ") + k;
         throw MakeInputError(source_, "unknown key '" + Path(it.key()) + "'; known keys" +

@@ -292,7 +292,6 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
                                              config_.object_match.appearance_weight);
     ObjectMatchConfig match_config = config_.object_match;
     if (!config_.method.scene_graph) match_config.solver = ObjectMatchSolver::kNodeOnly;
-    match_config.seed = config_.seed;
     std::vector<std::string> labels_s, labels_t;
     for (const SceneObject& o : objects_s) labels_s.push_back(o.label);
     for (const SceneObject& o : objects_t) labels_t.push_back(o.label);
@@ -315,7 +314,8 @@ CorrespondenceSet ObjectCorrespondenceSource::Find(
       }
       timer.Mark("point_match");  // §3.4's matching, done here for every candidate pair
     }
-    const ObjectMatchResult matched = MatchObjects(W_p, W_q, C, match_config, allowed);
+    const ObjectMatchResult matched =
+        MatchObjects(W_p, W_q, C, match_config, allowed, config_.seed);
     // Paper §3.3: drop matched pairs whose labels differ.
     pairs = DropLabelMismatches(matched.pairs, labels_s, labels_t);
     // Then the matches whose own motions disagree with the majority's (the scene moves as one).

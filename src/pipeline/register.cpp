@@ -272,9 +272,7 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
     m.detector = MakeDetector(config.detector,
                               ResolveDetectorModels(config.detector, config.inference, assets),
                               config.inference);
-    SegmenterConfig segmenter = config.segmenter;
-    segmenter.seed = config.seed;  // every random step derives its seed from the pipeline's
-    m.segmenter = MakeSegmenter(segmenter, assets, config.inference);
+    m.segmenter = MakeSegmenter(config.segmenter, assets, config.inference, config.seed);
     if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
   };
   // The model files are independent: the feature extractor is verified and loaded on a second

@@ -109,7 +109,8 @@ constexpr double kDepthLayerWithoutOutline = 0.9;
 //   (kDepthLayerWithoutOutline). GrabCut costs ~20 ms a box on 2 cores, the depth layer < 1 ms.
 class DepthSegmenter : public Segmenter {
  public:
-  explicit DepthSegmenter(const SegmenterConfig& config) : config_(config) {}
+  DepthSegmenter(const SegmenterConfig& config, std::uint64_t seed)
+      : config_(config), seed_(seed) {}
   std::string name() const override { return config_.backend; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
@@ -223,7 +224,7 @@ class DepthSegmenter : public Segmenter {
     // grabCut's k-means++ initialisation of the GMMs draws from cv::theRNG(): seed it so the mask
     // does not depend on earlier calls, and restore the caller's generator afterwards.
     const cv::RNG saved = cv::theRNG();
-    cv::theRNG() = cv::RNG(config_.seed);
+    cv::theRNG() = cv::RNG(seed_);
     bool ok = true;
     try {
       cv::grabCut(small, gc_mask, rect, bgd_model, fgd_model, config_.grabcut_iterations,
@@ -249,13 +250,14 @@ class DepthSegmenter : public Segmenter {
   }
 
   SegmenterConfig config_;
+  std::uint64_t seed_;
 };
 
 }  // namespace
 
 std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
                                          const std::string& assets_dir,
-                                         const InferenceConfig& inference) {
+                                         const InferenceConfig& inference, std::uint64_t seed) {
   auto require = [](bool ok, const std::string& field, const std::string& value,
                     const std::string& expected) {
     if (!ok) throw MakeInputError("segmenter." + field, "is " + value + ", expected " + expected);
@@ -318,7 +320,7 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
     return std::make_unique<SamSegmenter>(encoder, decoder, config, inference.threads,
                                           inference.graph_cache);
   }
-  return std::make_unique<DepthSegmenter>(config);
+  return std::make_unique<DepthSegmenter>(config, seed);
 }
 
 ViewMasks Segmenter::SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,

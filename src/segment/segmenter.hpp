@@ -64,10 +64,13 @@ class Segmenter {
 // Throws InputError naming the field for an unknown backend or an out-of-range parameter. "sam"
 // reads its models from `assets_dir` (RequireAsset) and always runs on ONNX Runtime (OpenCV DNN
 // cannot load them; `inference.threads` applies): an InputError naming segmenter.backend when the
-// build has no ONNX Runtime.
+// build has no ONNX Runtime. `seed`: GrabCut's GMM initialisation (k-means++) draws from
+// cv::theRNG(), which is reset to it before every box, so a mask does not depend on what ran
+// before it (PipelineConfig::seed).
 std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
                                          const std::string& assets_dir = "",
-                                         const InferenceConfig& inference = {});
+                                         const InferenceConfig& inference = {},
+                                         std::uint64_t seed = 0);
 
 namespace detail {
 

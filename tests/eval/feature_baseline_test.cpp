@@ -66,7 +66,8 @@ TEST(EvalFeatureBaselineVerdict, TooFewCorrespondencesIsInvalid) {
   FeatureBaselineConfig c;
   const MethodOutput out = RunFeatureBaseline(c, s, s);
   EXPECT_FALSE(out.valid);
-  EXPECT_NE(out.reason.find("correspondences"), std::string::npos) << out.reason;
+  EXPECT_TRUE(out.correspondences.empty()) << out.reason;
+  EXPECT_EQ(out.num_inliers, 0);
 }
 
 }  // namespace

@@ -28,9 +28,9 @@ InferenceConfig OnnxRuntime() {
   return c;
 }
 
-XFeatExtractor Make(const FeatureConfig& config, const InferenceConfig& inference) {
-  return XFeatExtractor(AssetsDir() + "/" + XFeatExtractor::ModelFile(config, inference), config,
-                        inference);
+XFeatExtractor Make(const XFeatInput& input, const InferenceConfig& inference) {
+  return XFeatExtractor(AssetsDir() + "/" + XFeatExtractor::ModelFile(inference, input),
+                        FeatureConfig(), inference, input);
 }
 
 cv::Mat ReadColor(const std::string& path) {
@@ -51,18 +51,15 @@ TEST(XFeat, InputSizeFollowsTheImage) {
 }
 
 TEST(XFeat, OpenCvDnnKeepsTheSquareExport) {
-  FeatureConfig config;
   InferenceConfig opencv;
   opencv.engine = "opencv";
-  EXPECT_TRUE(XFeatExtractor::UsesSquareInput(config, opencv));
-  EXPECT_EQ(XFeatExtractor::ModelFile(config, opencv), "xfeat/xfeat_640x640.onnx");
+  EXPECT_TRUE(XFeatExtractor::UsesSquareInput(opencv));
+  EXPECT_EQ(XFeatExtractor::ModelFile(opencv), "xfeat/xfeat_640x640.onnx");
   if (!OnnxRuntimeAvailable()) return;
-  EXPECT_EQ(XFeatExtractor::ModelFile(config, OnnxRuntime()), "xfeat/xfeat_any_size.onnx");
-  config.xfeat_keep_aspect = false;  // stretching to the square
-  EXPECT_EQ(XFeatExtractor::ModelFile(config, OnnxRuntime()), "xfeat/xfeat_640x640.onnx");
-  config.xfeat_keep_aspect = true;
-  config.xfeat_square_input = true;
-  EXPECT_EQ(XFeatExtractor::ModelFile(config, OnnxRuntime()), "xfeat/xfeat_640x640.onnx");
+  EXPECT_EQ(XFeatExtractor::ModelFile(OnnxRuntime()), "xfeat/xfeat_any_size.onnx");
+  XFeatInput square;
+  square.square = true;
+  EXPECT_EQ(XFeatExtractor::ModelFile(OnnxRuntime(), square), "xfeat/xfeat_640x640.onnx");
 }
 
 // On a 640x640 image both models get the same input (no fill), so the rewrite must give the same
@@ -71,10 +68,10 @@ TEST(XFeat, OpenCvDnnKeepsTheSquareExport) {
 // (The order of keypoints with nearly equal scores may differ, so they are compared by position.)
 TEST(XFeat, AnySizeModelComputesTheSquareExportOn640x640) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
-  FeatureConfig square_config;
-  square_config.xfeat_square_input = true;
-  const XFeatExtractor square = Make(square_config, OnnxRuntime());
-  const XFeatExtractor any_size = Make(FeatureConfig{}, OnnxRuntime());
+  XFeatInput square_input;
+  square_input.square = true;
+  const XFeatExtractor square = Make(square_input, OnnxRuntime());
+  const XFeatExtractor any_size = Make(XFeatInput{}, OnnxRuntime());
   for (int frame : {0, 500}) {
     cv::Mat img;
     cv::resize(ReadColor(perception_test::FramePath(frame, "color.jpg")), img, {640, 640});
@@ -145,13 +142,13 @@ Overlap CompareWithSquare(const cv::Mat& img, const ImageFeatures& a, const Imag
 
 TEST(XFeat, OwnSizeKeypointsAreTheSquareInputsKeypoints) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
-  FeatureConfig square_config;
-  square_config.xfeat_square_input = true;
-  FeatureConfig upstream_config;
-  upstream_config.xfeat_square_contrast = false;
-  const XFeatExtractor square = Make(square_config, OnnxRuntime());
-  const XFeatExtractor own = Make(FeatureConfig{}, OnnxRuntime());
-  const XFeatExtractor upstream = Make(upstream_config, OnnxRuntime());
+  XFeatInput square_input;
+  square_input.square = true;
+  XFeatInput upstream_input;
+  upstream_input.square_contrast = false;
+  const XFeatExtractor square = Make(square_input, OnnxRuntime());
+  const XFeatExtractor own = Make(XFeatInput{}, OnnxRuntime());
+  const XFeatExtractor upstream = Make(upstream_input, OnnxRuntime());
   for (const std::string& path :
        {perception_test::FramePath(0, "color.jpg"),
         testing::SharedDir() + "/data/hololens-office/frames/frame-000003.color.jpg"}) {
@@ -182,7 +179,7 @@ TEST(XFeat, OwnSizeKeypointsAreTheSquareInputsKeypoints) {
 // keeps every keypoint inside the crop.
 TEST(XFeat, KeypointsMapBackToTheImagesOwnPixels) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
-  const XFeatExtractor xfeat = Make(FeatureConfig{}, OnnxRuntime());
+  const XFeatExtractor xfeat = Make(XFeatInput{}, OnnxRuntime());
   const cv::Mat frame = ReadColor(perception_test::FramePath(0, "color.jpg"));
   cv::Mat large;
   cv::resize(frame, large, {1280, 960}, 0, 0, cv::INTER_LINEAR);

@@ -33,8 +33,8 @@ InferenceConfig Engine(const std::string& name, int threads = 2) {
   return c;
 }
 
-std::string XFeatPath(const FeatureConfig& config, const InferenceConfig& inference) {
-  return AssetsDir() + "/" + XFeatExtractor::ModelFile(config, inference);
+std::string XFeatPath(const InferenceConfig& inference, const XFeatInput& input = {}) {
+  return AssetsDir() + "/" + XFeatExtractor::ModelFile(inference, input);
 }
 
 TEST(InferenceEngine, ResolvesNamesAndRejectsBadOnes) {
@@ -100,10 +100,13 @@ Agreement Compare(const ImageFeatures& a, const ImageFeatures& b) {
 TEST(InferenceEngine, XFeatSameOnBothEngines) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
   // OpenCV DNN runs the square export only, so both engines get the same 640x640 input here.
-  FeatureConfig config;
-  config.xfeat_square_input = true;
-  const XFeatExtractor cv_dnn(XFeatPath(config, Engine("opencv")), config, Engine("opencv"));
-  const XFeatExtractor ort(XFeatPath(config, Engine("onnxruntime")), config, Engine("onnxruntime"));
+  const FeatureConfig config;
+  XFeatInput square;
+  square.square = true;
+  const XFeatExtractor cv_dnn(XFeatPath(Engine("opencv"), square), config, Engine("opencv"),
+                              square);
+  const XFeatExtractor ort(XFeatPath(Engine("onnxruntime"), square), config, Engine("onnxruntime"),
+                           square);
   for (int frame : kFrames) {
     const cv::Mat img = ReadFrame(frame);
     const ImageFeatures a = cv_dnn.Extract(img), b = ort.Extract(img);
@@ -164,7 +167,7 @@ TEST(InferenceEngine, PicodetSameOnBothEngines) {
 TEST(InferenceEngine, OnnxRuntimeOutputDoesNotDependOnThreads) {
   if (!OnnxRuntimeAvailable()) GTEST_SKIP() << "built without ONNX Runtime";
   const FeatureConfig config;  // the any-size model at the frames' own 640x480
-  const std::string xfeat = XFeatPath(config, Engine("onnxruntime"));
+  const std::string xfeat = XFeatPath(Engine("onnxruntime"));
   const XFeatExtractor one(xfeat, config, Engine("onnxruntime", 1));
   const XFeatExtractor two(xfeat, config, Engine("onnxruntime", 2));
   const XFeatExtractor four(xfeat, config, Engine("onnxruntime", 4));

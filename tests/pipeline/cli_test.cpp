@@ -118,7 +118,7 @@ TEST_F(CliBadInput, MalformedPose) {
 
 // The XFeat file the default config needs: xfeat_any_size.onnx (made by fetch-assets) with ONNX
 // Runtime, the 640x640 export with OpenCV DNN.
-std::string DefaultXFeatFile() { return XFeatExtractor::ModelFile({}, {}); }
+std::string DefaultXFeatFile() { return XFeatExtractor::ModelFile({}); }
 
 TEST_F(CliBadInput, MissingModelFile) {
   fs::create_directories(dir_ / "assets");

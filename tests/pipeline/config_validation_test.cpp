@@ -5,6 +5,9 @@
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "zeroreg/error.hpp"
 #include "zeroreg/json.hpp"
@@ -85,6 +88,45 @@ TEST(ConfigValidation, IntegersAreExact) {
   EXPECT_NE(seed.find("--set seed=-3: seed is -3"), std::string::npos) << seed;
   ApplyConfigOverride("seed=18446744073709551615", &c);
   EXPECT_EQ(c.seed, 18446744073709551615ull);
+}
+
+}  // namespace
+}  // namespace zeroreg
+
+namespace zeroreg {
+namespace {
+
+// A removed setting in a config file is refused with what took its place, not merely as an
+// unknown key; the one seed is accepted wherever a config enters.
+TEST(ConfigValidation, RemovedSettingsNameWhatReplacedThem) {
+  const std::vector<std::pair<std::string, std::string>> removed = {
+      {"features.xfeat_keep_aspect", "aspect ratio"},
+      {"features.xfeat_square_input", "own size"},
+      {"features.xfeat_square_contrast", "contrast"},
+      {"lift.holes_are_edges", "never a keypoint's depth edge"},
+      {"refine.anchor_inverse_variance", "refine.anchor_weight_coarse"},
+      {"object_match.seed", "top-level \"seed\""},
+      {"segmenter.seed", "top-level \"seed\""},
+  };
+  for (const auto& [key, replacement] : removed) {
+    PipelineConfig c;
+    const std::string m = MessageOf([&, key = key] { ApplyConfigOverride(key + "=1", &c); });
+    EXPECT_NE(m.find(key + " was removed"), std::string::npos) << m;
+    EXPECT_NE(m.find(replacement), std::string::npos) << m;
+    EXPECT_EQ(m.find("known keys"), std::string::npos) << m;
+    const std::string section = key.substr(0, key.find('.'));
+    EXPECT_FALSE(
+        ConfigToJson(PipelineConfig()).at(section).contains(key.substr(section.size() + 1)))
+        << key;
+  }
+  PipelineConfig c;
+  ApplyConfigOverride("seed=7", &c);
+  EXPECT_EQ(c.seed, 7u);
+  ApplyConfigJson(nlohmann::json{{"seed", 11}}, "config", &c);
+  EXPECT_EQ(c.seed, 11u);
+  // A misspelt key still gets the list of known keys.
+  const std::string typo = MessageOf([&] { ApplyConfigOverride("lift.holes_are_edge=1", &c); });
+  EXPECT_NE(typo.find("unknown key 'lift.holes_are_edge'; known keys"), std::string::npos) << typo;
 }
 
 }  // namespace

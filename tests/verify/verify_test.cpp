@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -174,7 +175,6 @@ TEST(Verify, CorridorIsFlaggedDegenerate) {
   const VerificationResult v =
       VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
   EXPECT_TRUE(v.degenerate) << v.reason;
-  EXPECT_NE(v.reason.find("DEGENERATE"), std::string::npos) << v.reason;
   EXPECT_LT(v.probe_contradicted, VerifyConfig().min_probe_contradicted);
 }
 
@@ -206,7 +206,7 @@ TEST(Verify, NoDepthIsTooLittleToVerify) {
   const VerificationResult v =
       VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
   EXPECT_FALSE(v.passed);
-  EXPECT_NE(v.reason.find("too little depth"), std::string::npos) << v.reason;
+  EXPECT_LT(std::min(v.source_samples, v.target_samples), VerifyConfig().min_points) << v.reason;
 }
 
 // The default sampling grid follows the image size (verify.pixel_stride = 0, PixelGrid): the same
