@@ -88,28 +88,39 @@ cv::Mat DrawObjectMatches(const Scan& source, const Scan& target, const Registra
   return canvas;
 }
 
-cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
-                            const RegistrationResult& result, int source_view, int target_view) {
-  const View& a = source.views[source_view];
-  cv::Mat canvas = SideBySide(a, target.views[target_view]);
-  const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
-  int inliers = 0, outliers = 0;
-  // Outliers first so that inliers are drawn on top.
+namespace {
+
+// The correspondences between source view `source_view` and target view `target_view` (-1: the
+// rendered target) as lines from the left image to the right one, `offset` apart: outliers red
+// first, inliers green on top; counts them.
+void DrawMatchLines(const RegistrationResult& result, int source_view, int target_view,
+                    const cv::Point2f& offset, cv::Mat* canvas, int* inliers, int* outliers) {
   for (int pass = 0; pass < 2; ++pass) {
     for (size_t i = 0; i < result.correspondences.size(); ++i) {
       const Correspondence& c = result.correspondences[i];
       if (c.view != source_view || c.target_view != target_view) continue;
       const bool inlier = i < result.is_inlier.size() && result.is_inlier[i];
       if (inlier != (pass == 1)) continue;
-      (inlier ? inliers : outliers)++;
+      ++*(inlier ? inliers : outliers);
       const cv::Point2f p(c.source_pixel.x(), c.source_pixel.y());
       const cv::Point2f q = cv::Point2f(c.target_pixel.x(), c.target_pixel.y()) + offset;
       const cv::Scalar colour = inlier ? cv::Scalar(60, 200, 60) : cv::Scalar(40, 40, 230);
-      cv::line(canvas, p, q, colour, 1, cv::LINE_AA);
-      cv::circle(canvas, p, 2, colour, -1);
-      cv::circle(canvas, q, 2, colour, -1);
+      cv::line(*canvas, p, q, colour, 1, cv::LINE_AA);
+      cv::circle(*canvas, p, 2, colour, -1);
+      cv::circle(*canvas, q, 2, colour, -1);
     }
   }
+}
+
+}  // namespace
+
+cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
+                            const RegistrationResult& result, int source_view, int target_view) {
+  const View& a = source.views[source_view];
+  cv::Mat canvas = SideBySide(a, target.views[target_view]);
+  const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
+  int inliers = 0, outliers = 0;
+  DrawMatchLines(result, source_view, target_view, offset, &canvas, &inliers, &outliers);
   char text[160];
   std::snprintf(text, sizeof(text), "%d RANSAC inliers (green), %d outliers (red); path %s",
                 inliers, outliers, PathName(result.path).c_str());
@@ -127,21 +138,8 @@ cv::Mat DrawSynthesizedView(const Scan& source, const Scan& target,
   cv::Mat canvas = SideBySide(a, rendered);
   const cv::Point2f offset(static_cast<float>(a.color.cols), 0.f);
   int inliers = 0, outliers = 0;
-  for (int pass = 0; pass < 2; ++pass) {  // outliers first, inliers on top
-    for (size_t i = 0; i < result.correspondences.size(); ++i) {
-      const Correspondence& c = result.correspondences[i];
-      if (c.view != camera.source_view || c.target_view != -1) continue;
-      const bool inlier = i < result.is_inlier.size() && result.is_inlier[i];
-      if (inlier != (pass == 1)) continue;
-      (inlier ? inliers : outliers)++;
-      const cv::Point2f p(c.source_pixel.x(), c.source_pixel.y());
-      const cv::Point2f q = cv::Point2f(c.target_pixel.x(), c.target_pixel.y()) + offset;
-      const cv::Scalar colour = inlier ? cv::Scalar(60, 200, 60) : cv::Scalar(40, 40, 230);
-      cv::line(canvas, p, q, colour, 1, cv::LINE_AA);
-      cv::circle(canvas, p, 2, colour, -1);
-      cv::circle(canvas, q, 2, colour, -1);
-    }
-  }
+  DrawMatchLines(result, camera.source_view, /*target_view=*/-1, offset, &canvas, &inliers,
+                 &outliers);
   char text[240];
   std::snprintf(text, sizeof(text),
                 "source view %d | target rendered from %s: %d inliers (green), %d outliers (red); "
