@@ -1,5 +1,7 @@
 #include "estimate/working_scale.hpp"
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -58,6 +60,65 @@ Scan InWorkingUnits(const Scan& scan, double k) {
   for (Eigen::Vector3d& p : out.points) p *= inverse;
   if (out.T_world_scan_gt) out.T_world_scan_gt->topRightCorner<3, 1>() *= inverse;
   return out;
+}
+
+// The result of a registration made in working units of k metres (src/estimate/working_scale.hpp)
+// in metres: every transform's translation and every length multiplied by k. The reason's
+// prose keeps the working units and says so.
+void ResultInMetres(double k, const std::optional<MotionPrior>& prior, RegistrationResult* r) {
+  if (k == 1.0) return;
+  r->T_target_source.topRightCorner<3, 1>() *= k;
+  for (CandidateSummary& c : r->candidates) c.T_target_source.topRightCorner<3, 1>() *= k;
+  for (Correspondence& c : r->correspondences) {
+    c.source *= k;
+    c.target *= k;
+  }
+  for (auto* objects : {&r->source_objects, &r->target_objects}) {
+    for (ObjectSummary& o : *objects) {
+      o.centroid *= k;
+      for (Eigen::Vector3d& p : o.points) p *= k;
+    }
+  }
+  for (Alternative& a : r->alternatives) {
+    a.T_target_source.topRightCorner<3, 1>() *= k;
+    a.apart_m *= k;
+  }
+  if (r->rendered_view) r->rendered_view->T_target_camera.topRightCorner<3, 1>() *= k;
+  r->inlier_rmse *= k;
+  r->inlier_spread_m *= k;
+  r->verification.residual_rms_m *= k;
+  switch (r->refusal.test) {
+    case RefusalTest::kInliersOnALine:
+    case RefusalTest::kAnotherPosePasses:
+    case RefusalTest::kAmbiguous:
+      r->refusal.measured *= k;
+      r->refusal.threshold *= k;
+      break;
+    case RefusalTest::kOutsidePrior:
+      // Metres when the rotation was within the prior (the threshold is then the working prior's
+      // translation tolerance); degrees are the same at any scale.
+      if (prior && r->refusal.threshold != prior->max_rotation_deg &&
+          r->refusal.threshold == prior->max_translation_m / k) {
+        r->refusal.measured *= k;
+        r->refusal.threshold = prior->max_translation_m;
+      }
+      break;
+    default:
+      break;
+  }
+  char note[160];
+  std::snprintf(note, sizeof(note),
+                " [working scale %.3g: the lengths above are in units of %.3g m]", k, k);
+  r->reason += note;
+}
+
+// The prior in working units of k metres.
+std::optional<MotionPrior> PriorInWorkingUnits(const std::optional<MotionPrior>& prior, double k) {
+  if (!prior || k == 1.0) return prior;
+  MotionPrior p = *prior;
+  p.T_target_source.topRightCorner<3, 1>() /= k;
+  p.max_translation_m /= k;
+  return p;
 }
 
 }  // namespace zeroreg

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "zeroreg/config.hpp"
+#include "zeroreg/register.hpp"
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
@@ -36,5 +37,13 @@ std::optional<double> PairWorkingDistance(std::optional<double> source_m,
 // The scan with every length divided by k: depth readings, points, the views' pose translations
 // and the ground truth's. k = 1 returns an exact copy.
 Scan InWorkingUnits(const Scan& scan, double k);
+
+// A result made in working units of k metres, in metres: every transform's translation (the
+// result's, the candidates', the alternatives', the rendered view's) and every length multiplied
+// by k; the reason's prose keeps the working units and says so.
+void ResultInMetres(double k, const std::optional<MotionPrior>& prior, RegistrationResult* r);
+
+// The prior in working units of k metres.
+std::optional<MotionPrior> PriorInWorkingUnits(const std::optional<MotionPrior>& prior, double k);
 
 }  // namespace zeroreg

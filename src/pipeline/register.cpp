@@ -24,6 +24,7 @@
 #include "parallel/run_both.hpp"
 #include "pipeline/arbiter.hpp"
 #include "pipeline/image_source.hpp"
+#include "pipeline/input_checks.hpp"
 #include "pipeline/judge.hpp"
 #include "pipeline/object_correspondences.hpp"
 #include "pipeline/prepared.hpp"
@@ -57,34 +58,6 @@ std::size_t PreparedScan::MemoryBytes() const {
 }
 
 namespace {
-
-// The core trusts its inputs; this is the boundary check for scans built by callers (C++ or
-// Python), with messages that name the scan and view.
-void CheckScan(const Scan& scan, const std::string& role) {
-  const std::string where = role + " scan '" + scan.name + "'";
-  if (scan.views.empty()) {
-    throw MakeInputError(where, "has no views; expected at least one posed RGB-D view");
-  }
-  for (size_t i = 0; i < scan.views.size(); ++i) {
-    const View& v = scan.views[i];
-    const std::string view_where = where + " view " + std::to_string(i) + " (" + v.name + ")";
-    if (v.color.empty() || v.color.type() != CV_8UC3) {
-      throw MakeInputError(view_where, "colour image is empty or not 8-bit 3-channel");
-    }
-    if (v.depth.empty() || v.depth.type() != CV_32FC1) {
-      throw MakeInputError(view_where, "depth image is empty or not float32 metres");
-    }
-    if (v.color.size() != v.depth.size()) {
-      std::ostringstream s;
-      s << "colour is " << v.color.cols << "x" << v.color.rows << " but depth is " << v.depth.cols
-        << "x" << v.depth.rows << "; expected the same size";
-      throw MakeInputError(view_where, s.str());
-    }
-    if (!(v.intrinsics.fx > 0 && v.intrinsics.fy > 0)) {
-      throw MakeInputError(view_where, "intrinsics fx/fy must be positive");
-    }
-  }
-}
 
 // Model files of the configured detector, verified against the repo's sha256 list.
 // PicoDet: only the file of the configured engine (the verbatim export on ONNX Runtime, the
@@ -162,76 +135,6 @@ void KeepObjectMatchesThatMoveWith(const Transform& T, const std::vector<MatchMo
   }
   result->rejected_object_matches += static_cast<int>(result->object_matches.size() - kept.size());
   result->object_matches = std::move(kept);
-}
-
-// A prior that is not a rigid transform, or a tolerance that is not a positive number, is refused
-// by name (InputError) rather than silently making every result invalid.
-void CheckPrior(const std::optional<MotionPrior>& prior) {
-  if (!prior) return;
-  // The same test (and tolerances) as every pose file (ReadPoseFile): what reads as a pose is
-  // accepted as a prior.
-  detail::CheckRigid(prior->T_target_source, "motion prior T_target_source");
-  const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  if (!positive(prior->max_rotation_deg) || !positive(prior->max_translation_m)) {
-    std::ostringstream given;
-    given << "max_rotation_deg " << prior->max_rotation_deg << ", max_translation_m "
-          << prior->max_translation_m;
-    throw MakeInputError("motion prior tolerance",
-                         given.str() + ": expected positive numbers (degrees, metres)");
-  }
-}
-
-// The result of a registration made in working units of k metres (src/estimate/working_scale.hpp)
-// in metres: every transform's translation and every length multiplied by k. The reason's
-// prose keeps the working units and says so.
-void ResultInMetres(double k, const std::optional<MotionPrior>& prior, RegistrationResult* r) {
-  if (k == 1.0) return;
-  r->T_target_source.topRightCorner<3, 1>() *= k;
-  for (CandidateSummary& c : r->candidates) c.T_target_source.topRightCorner<3, 1>() *= k;
-  for (Correspondence& c : r->correspondences) {
-    c.source *= k;
-    c.target *= k;
-  }
-  for (auto* objects : {&r->source_objects, &r->target_objects}) {
-    for (ObjectSummary& o : *objects) {
-      o.centroid *= k;
-      for (Eigen::Vector3d& p : o.points) p *= k;
-    }
-  }
-  r->inlier_rmse *= k;
-  r->inlier_spread_m *= k;
-  r->verification.residual_rms_m *= k;
-  switch (r->refusal.test) {
-    case RefusalTest::kInliersOnALine:
-    case RefusalTest::kAnotherPosePasses:
-      r->refusal.measured *= k;
-      r->refusal.threshold *= k;
-      break;
-    case RefusalTest::kOutsidePrior:
-      // Metres when the rotation was within the prior (the threshold is then the working prior's
-      // translation tolerance); degrees are the same at any scale.
-      if (prior && r->refusal.threshold != prior->max_rotation_deg &&
-          r->refusal.threshold == prior->max_translation_m / k) {
-        r->refusal.measured *= k;
-        r->refusal.threshold = prior->max_translation_m;
-      }
-      break;
-    default:
-      break;
-  }
-  char note[160];
-  std::snprintf(note, sizeof(note),
-                " [working scale %.3g: the lengths above are in units of %.3g m]", k, k);
-  r->reason += note;
-}
-
-// The prior in working units of k metres.
-std::optional<MotionPrior> PriorInWorkingUnits(const std::optional<MotionPrior>& prior, double k) {
-  if (!prior || k == 1.0) return prior;
-  MotionPrior p = *prior;
-  p.T_target_source.topRightCorner<3, 1>() /= k;
-  p.max_translation_m /= k;
-  return p;
 }
 
 std::atomic<std::uint64_t> g_next_pipeline_id{1};
