@@ -30,8 +30,8 @@ struct SessionsOptions {
   std::vector<std::string> scenes, modes = {"unaligned", "drift"};
   std::string seeds = "0-2";
   // zeroreg: MergeRecordings; sift-ransac: MergeRecordings with the SIFT + RANSAC pair baseline
-  // as its registrar; open3d-multiway: Open3D's multiway registration recipe on the same keyframes
-  // (src/recordings/open3d_baseline.hpp). The last two are the baselines.
+  // as its registrar; open3d-multiway: Open3D's multiway registration recipe on fragments of the
+  // recordings (src/recordings/open3d_baseline.hpp). The last two are the baselines.
   std::string method = "zeroreg";
   RecordingsOptions recordings;
 };
@@ -265,8 +265,8 @@ CLI::App* AddEvalSessionsCommand(CLI::App& eval, Runner* run) {
   app->add_option("--seeds", o->seeds, "seeds FIRST-LAST")->capture_default_str();
   app->add_option("--method", o->method,
                   "zeroreg; sift-ransac (the same merge, SIFT + RANSAC as the pair registrar); "
-                  "open3d-multiway (Open3D's multiway registration recipe on the same keyframes: "
-                  "FPFH + RANSAC + ICP keyframe pair edges, its pose graph)")
+                  "open3d-multiway (Open3D's reconstruction-system recipe: fragments of 100 "
+                  "frames, FPFH + RANSAC + ICP between every fragment pair, its pose graph)")
       ->check(CLI::IsMember({"zeroreg", "sift-ransac", "open3d-multiway"}))
       ->capture_default_str();
   AddRecordingsOptions(*app, &o->recordings);

@@ -11,6 +11,7 @@
 
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
+#include "recordings/open3d_baseline.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -214,6 +215,23 @@ TEST(MergeCliTest, TwoShardsGiveTheEdgesAndTheResultOfOneRun) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--shard and --edges"), std::string::npos) << r.output;
   fs::remove_all(dir);
+}
+
+// The Open3D baseline on the short revisit: one fragment per recording (the recipe's 100 frames
+// hold each), B placed by their FPFH + RANSAC + ICP edge; the nodes are the fragments' first
+// frames.
+TEST_F(MergeTest, Open3dBaselineFragmentsPlaceTheShortRevisit) {
+  const RecordingsResult r = MergeWithOpen3dMultiway(a_, b_, config_);
+  ASSERT_TRUE(r.found) << r.reason;
+  ASSERT_EQ(r.keyframes.size(), 2u);
+  EXPECT_EQ(r.keyframes[0].frame, 460);
+  EXPECT_EQ(r.keyframes[1].frame, 600);
+  EXPECT_LE(RotationErrorDeg(r.T_A_B, TrueT_A_B()), 2.0);
+  EXPECT_LE(TranslationErrorM(r.T_A_B, TrueT_A_B()), 0.05);
+  EXPECT_EQ(r.trajectories[1].size(), truth_b_.size());  // every frame of B placed
+  RecordingInput no_poses = b_;
+  no_poses.T_frame_camera.clear();
+  EXPECT_THROW(MergeWithOpen3dMultiway(a_, no_poses, config_), InputError);
 }
 
 // `eval sessions` on a split file of the short revisit: the protocol's B unaligned by seed 0, the
