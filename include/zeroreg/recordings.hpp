@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -119,6 +120,12 @@ struct LoopCandidateResult {
   Transform T_u_v = Transform::Identity();
   int inliers = 0;
   double overlap = 0.0;
+  // The transform's uncertainty from its inlier correspondences (a rigid fit's covariance, the
+  // noise from their residuals; src/recordings/loop_uncertainty.hpp): the standard deviation of
+  // the rotation and of v's position in u's frame along their least determined axes. Infinite
+  // when fewer than three inliers, or inliers on a line, support the transform.
+  double rotation_sigma_deg = std::numeric_limits<double>::infinity();
+  double translation_sigma_m = std::numeric_limits<double>::infinity();
   // "accepted", "inconsistent" (valid, outside the largest consistent set), "rival" (valid, in the
   // second largest set), "ambiguous" (the largest set, refused for a large rival), "too_few"
   // (valid, but the consistent set is below min_consistent_loops), "residual" (consistent, but

@@ -9,6 +9,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -19,6 +20,7 @@
 #include "pipeline/prepared.hpp"
 #include "recordings/keyframes.hpp"
 #include "recordings/loop_consistency.hpp"
+#include "recordings/loop_uncertainty.hpp"
 #include "recordings/place_recognition.hpp"
 #include "recordings/pose_graph.hpp"
 #include "recordings/report.hpp"
@@ -55,6 +57,12 @@ struct Keyframe {
   Eigen::MatrixXf descriptors;
   ColoredCloud cloud;  // camera frame, thinned
 };
+
+// An uncertainty in loops.jsonl: null when infinite (JSON has no infinity).
+json Sigma(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+double SigmaFrom(const json& value) {
+  return value.is_null() ? std::numeric_limits<double>::infinity() : value.get<double>();
+}
 
 // The loops.jsonl key of a candidate: both ends' recording and frame.
 std::string PairKey(int ru, int fu, int rv, int fv) {
@@ -329,7 +337,8 @@ void Runner::Verify() {
     const Keyframe& u = keyframes_[c.u];
     const Keyframe& v = keyframes_[c.v];
     const auto it = resumed_.find(PairKey(u.recording, u.frame, v.recording, v.frame));
-    if (it == resumed_.end()) {
+    // A record without the uncertainty comes from an older run: registered again.
+    if (it == resumed_.end() || !it->second.contains("rotation_sigma_deg")) {
       todo.push_back(i);
       continue;
     }
@@ -339,6 +348,8 @@ void Runner::Verify() {
     c.path = record.at("path").get<std::string>();
     c.inliers = record.at("inliers").get<int>();
     c.overlap = record.at("overlap").get<double>();
+    c.rotation_sigma_deg = SigmaFrom(record.at("rotation_sigma_deg"));
+    c.translation_sigma_m = SigmaFrom(record.at("translation_sigma_m"));
     const json& T = record.at("T_u_v");
     for (int r = 0; r < 4; ++r) {
       for (int col = 0; col < 4; ++col) c.T_u_v(r, col) = T.at(r).at(col).get<double>();
@@ -366,12 +377,17 @@ void Runner::Verify() {
       c.T_u_v = r.T_target_source;
       c.inliers = r.num_inliers;
       c.overlap = r.verification.overlap;
+      const LoopUncertainty uncertainty = UncertaintyOfRegistration(r);
+      c.rotation_sigma_deg = uncertainty.rotation_sigma_rad / kRadiansPerDegree;
+      c.translation_sigma_m = uncertainty.translation_sigma_m;
       const json record = {{"key", PairKey(u.recording, u.frame, v.recording, v.frame)},
                            {"valid", c.valid},
                            {"reason", c.reason},
                            {"path", c.path},
                            {"inliers", c.inliers},
                            {"overlap", c.overlap},
+                           {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+                           {"translation_sigma_m", Sigma(c.translation_sigma_m)},
                            {"T_u_v", TransformToJson(c.T_u_v)}};
       std::lock_guard<std::mutex> lock(mutex);
       if (loops.is_open()) loops << record.dump() << "\n" << std::flush;
@@ -406,6 +422,14 @@ void Runner::Decide() {
     LoopCandidateResult& c = result_.candidates[i];
     if (!c.valid) {
       c.verdict = "invalid";
+      continue;
+    }
+    // Fewer than three inliers (or inliers on a line) under the transform: its correspondences do
+    // not determine it, so nothing bounds where it puts v's camera (dense agreement of the depth
+    // near the cameras leaves a rotation about it free to move a camera 1.5 m away by
+    // centimetres). It neither votes in the consistency check nor enters the graph.
+    if (!std::isfinite(c.rotation_sigma_deg) || !std::isfinite(c.translation_sigma_m)) {
+      c.verdict = "unsupported";
       continue;
     }
     c.verdict = "inconsistent";
@@ -623,6 +647,8 @@ void Runner::WriteOutputs() {
           {"path", c.path},
           {"inliers", c.inliers},
           {"overlap", c.overlap},
+          {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+          {"translation_sigma_m", Sigma(c.translation_sigma_m)},
           {"T_u_v", TransformToJson(c.T_u_v)},
           {"verdict", c.verdict}};
       out << record.dump() << "\n";
@@ -776,6 +802,8 @@ nlohmann::json RecordingsResultToJson(const RecordingsResult& r) {
                           {"T_u_v", TransformToJson(c.T_u_v)},
                           {"inliers", c.inliers},
                           {"overlap", c.overlap},
+                          {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+                          {"translation_sigma_m", Sigma(c.translation_sigma_m)},
                           {"verdict", c.verdict},
                           {"resumed", c.resumed}});
   }
