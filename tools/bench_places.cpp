@@ -157,6 +157,7 @@ int Run(int argc, char** argv) {
   double positive = 0.3;
   bool keyframes_only = false, misses = false;
   int rerank = 0;
+  int neighbours = 0;
   float min_cosine = 0.8f;
   app.add_option("--data", data, "folder of the scenes");
   app.add_option("--sessions", sessions_file, "sessions list (scene, A range, B range)");
@@ -166,6 +167,9 @@ int Run(int argc, char** argv) {
   app.add_option("--words", vc.words, "vocabulary size");
   app.add_option("--seed", vc.seed, "k-means seed");
   app.add_option("--positive", positive, "co-visibility of a true loop-closure pair");
+  app.add_option("--neighbours", neighbours,
+                 "each keyframe described with the words of the N keyframes before and after it "
+                 "in its recording too");
   app.add_option("--rerank", rerank, "re-rank the N best by mutual descriptor matches (0: off)");
   app.add_option("--min-cosine", min_cosine, "re-ranking: a match's minimum cosine");
   app.add_flag("--misses", misses, "print the queries missed at 10 to stderr");
@@ -221,7 +225,9 @@ int Run(int argc, char** argv) {
       for (const Keyframe& k : *rec) sets.push_back(k.descriptors);
     }
     PlaceIndex index(Vocabulary::Train(sets, vc));
-    for (const Eigen::MatrixXf& d : sets) index.Add(d);
+    const std::vector<Eigen::MatrixXf> described =
+        WithNeighbours(sets, {static_cast<int>(a.size()), static_cast<int>(b.size())}, neighbours);
+    for (const Eigen::MatrixXf& d : described) index.Add(d);
     index.Finalize();
     std::vector<int> database;
     for (std::size_t i = 0; i < a.size(); ++i) database.push_back(static_cast<int>(i));

@@ -53,9 +53,15 @@ struct RecordingsConfig {
   int keyframe_every = 10;
   int vocabulary_words = 256;
   std::uint64_t vocabulary_seed = 0;
+  // Place recognition describes each keyframe with the words of the this many keyframes before
+  // and after it in its recording too (WithNeighbours, place_recognition.hpp): a place seen again
+  // from across a room shares more words with a few neighbouring views than with one.
+  int place_neighbours = 2;
   // Candidates: per query keyframe, the best-ranked keyframes of the other recording (merge) or
-  // of the same one at least `min_separation` keyframes away (loops).
-  int candidates_per_keyframe = 5;
+  // of the same one at least `min_separation` keyframes away (loops). On the sessions' redkitchen
+  // split a B keyframe sees 8 of A's 24 keyframes on average (co-visibility >= 0.3): 5 candidates
+  // cannot reach half of those pairs, 10 can (loop recall 0.42 -> 0.63, docs/RECORDINGS.md).
+  int candidates_per_keyframe = 10;
   int min_separation = 10;
   // Fewer mutually consistent loop closures than this: nothing is accepted (one registration alone
   // cannot be checked against anything).
@@ -157,7 +163,8 @@ struct RecordingsResult {
 // The result as JSON (what the Python module returns): transforms as 4 rows of 4 numbers.
 nlohmann::json RecordingsResultToJson(const RecordingsResult& result);
 // Sets the RecordingsConfig fields named by the keys of `options` (keyframe_covisibility,
-// keyframe_every, vocabulary_words, vocabulary_seed, candidates_per_keyframe, min_separation,
+// keyframe_every, vocabulary_words, vocabulary_seed, place_neighbours, candidates_per_keyframe,
+// min_separation,
 // min_consistent_loops, prepared_budget_mib, cloud_voxel_m, progress, write_cloud,
 // write_report). Throws InputError naming `where` and the key for an unknown key or a wrong type.
 void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& where,

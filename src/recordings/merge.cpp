@@ -134,6 +134,7 @@ json Runner::Settings() const {
           {"keyframe_every", c.keyframe_every},
           {"vocabulary_words", c.vocabulary_words},
           {"vocabulary_seed", c.vocabulary_seed},
+          {"place_neighbours", c.place_neighbours},
           {"candidates_per_keyframe", c.candidates_per_keyframe},
           {"min_separation", c.min_separation}};
 }
@@ -287,7 +288,11 @@ void Runner::FindCandidates() {
   vc.seed = config_.vocabulary_seed;
   ValidateVocabularyConfig(vc);
   PlaceIndex index(Vocabulary::Train(sets, vc));
-  for (const Eigen::MatrixXf& d : sets) index.Add(d);
+  std::vector<int> sizes;
+  for (const std::vector<int>& nodes : nodes_of_) sizes.push_back(static_cast<int>(nodes.size()));
+  for (const Eigen::MatrixXf& d : WithNeighbours(sets, sizes, config_.place_neighbours)) {
+    index.Add(d);
+  }
   index.Finalize();
   for (Keyframe& k : keyframes_) k.descriptors.resize(0, 0);  // only the index needs them now
   const int k = config_.candidates_per_keyframe;
@@ -704,12 +709,14 @@ void Runner::WriteOutputs() {
 
 RecordingsResult Runner::Run() {
   if (config_.candidates_per_keyframe < 1 || config_.min_separation < 1 ||
-      config_.min_consistent_loops < 1 || !(config_.cloud_voxel_m > 0) ||
-      !(config_.loop_sigma_deg > 0) || !(config_.loop_sigma_m > 0) ||
-      !(config_.odometry_sigma_deg_per_frame > 0) || !(config_.odometry_sigma_fraction >= 0)) {
+      config_.place_neighbours < 0 || config_.min_consistent_loops < 1 ||
+      !(config_.cloud_voxel_m > 0) || !(config_.loop_sigma_deg > 0) ||
+      !(config_.loop_sigma_m > 0) || !(config_.odometry_sigma_deg_per_frame > 0) ||
+      !(config_.odometry_sigma_fraction >= 0)) {
     throw InputError(
         "recordings config: candidates_per_keyframe, min_separation, min_consistent_loops, "
-        "cloud_voxel_m and the loop and odometry sigmas must be positive");
+        "cloud_voxel_m and the loop and odometry sigmas must be positive, place_neighbours at "
+        "least 0");
   }
   PrepareOutDir();
   has_poses_.assign(inputs_.size(), false);
@@ -846,6 +853,8 @@ void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& wh
       config->vocabulary_words = static_cast<int>(integer());
     } else if (key == "vocabulary_seed") {
       config->vocabulary_seed = static_cast<std::uint64_t>(integer());
+    } else if (key == "place_neighbours") {
+      config->place_neighbours = static_cast<int>(integer());
     } else if (key == "candidates_per_keyframe") {
       config->candidates_per_keyframe = static_cast<int>(integer());
     } else if (key == "min_separation") {
