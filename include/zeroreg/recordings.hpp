@@ -135,7 +135,8 @@ struct LoopCandidateResult {
   // "accepted", "inconsistent" (valid, outside the largest consistent set), "rival" (valid, in the
   // second largest set), "ambiguous" (the largest set, refused for a large rival), "too_few"
   // (valid, but the consistent set is below min_consistent_loops), "residual" (consistent, but
-  // off the optimised graph), "invalid" (the pair registration is not valid).
+  // off the optimised graph), "unsupported" (valid, but its inliers do not determine the
+  // transform: infinite sigmas), "invalid" (the pair registration is not valid).
   std::string verdict;
   bool resumed = false;  // read back from loops.jsonl
 };
