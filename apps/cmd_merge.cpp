@@ -37,6 +37,11 @@ void AddRecordingsOptions(CLI::App& app, RecordingsOptions* o) {
   app.add_option("--words", o->config.vocabulary_words, "place-recognition vocabulary size")
       ->capture_default_str()
       ->check(AtLeast(1, true));
+  app.add_option("--place-neighbours", o->config.place_neighbours,
+                 "place recognition: each keyframe described with the N keyframes before and "
+                 "after it too")
+      ->capture_default_str()
+      ->check(AtLeast(0, true));
   app.add_option("--cache-mib", o->cache_mib,
                  "prepared keyframes kept in memory (MiB); past it they are prepared again")
       ->capture_default_str()

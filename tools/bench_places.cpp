@@ -2,8 +2,8 @@
 // ../shared/sessions (docs/RECORDINGS.md). Not installed; a benchmark, not a test.
 //
 //   zeroreg-bench-places [--data DIR] [--sessions FILE] [--scene NAME] [--threshold T]
-//                        [--every K] [--words N] [--seed S] [--positive C] [--rerank N]
-//                        [--min-cosine C] [--misses] [--keyframes-only]
+//                        [--every K] [--words N] [--seed S] [--positive C] [--neighbours N]
+//                        [--rerank N] [--min-cosine C] [--misses] [--keyframes-only]
 //
 // Per scene: keyframes of recording A and of recording B (src/recordings/keyframes.hpp; ground
 // truth poses, or every K-th frame with --every), XFeat descriptors of each keyframe (the
@@ -118,6 +118,7 @@ int Run(int argc, char** argv) {
   double positive = 0.3;
   bool keyframes_only = false, misses = false;
   int rerank = 0;
+  int neighbours = 2;  // as RecordingsConfig::place_neighbours
   float min_cosine = 0.8f;
   app.add_option("--data", data, "folder of the scenes");
   app.add_option("--sessions", sessions_file, "sessions list (scene, A range, B range)");
@@ -127,6 +128,9 @@ int Run(int argc, char** argv) {
   app.add_option("--words", vc.words, "vocabulary size");
   app.add_option("--seed", vc.seed, "k-means seed");
   app.add_option("--positive", positive, "co-visibility of a true loop-closure pair");
+  app.add_option("--neighbours", neighbours,
+                 "each keyframe described with the words of the N keyframes before and after it "
+                 "in its recording too");
   app.add_option("--rerank", rerank, "re-rank the N best by mutual descriptor matches (0: off)");
   app.add_option("--min-cosine", min_cosine, "re-ranking: a match's minimum cosine");
   app.add_flag("--misses", misses, "print the queries missed at 10 to stderr");
@@ -150,11 +154,11 @@ int Run(int argc, char** argv) {
                                      pipeline.inference);
   }
   std::printf(
-      "keyframes: %s; vocabulary %d words, seed %llu; re-rank %d (cosine %.2f); "
+      "keyframes: %s; vocabulary %d words, seed %llu; neighbours %d; re-rank %d (cosine %.2f); "
       "positive: co-visibility >= %.2f\n",
       every > 0 ? ("every " + std::to_string(every) + " frames").c_str()
                 : ("co-visibility < " + std::to_string(kf.covisibility_threshold)).c_str(),
-      vc.words, static_cast<unsigned long long>(vc.seed), rerank, min_cosine, positive);
+      vc.words, static_cast<unsigned long long>(vc.seed), neighbours, rerank, min_cosine, positive);
   std::printf(
       "| scene | frames A/B | keyframes A/B | queries | R@1 | R@5 | R@10 | chance@1 | chance@10 |"
       " XFeat ms/kf |\n|---|---|---|---|---|---|---|---|---|---|\n");
@@ -182,7 +186,9 @@ int Run(int argc, char** argv) {
       for (const Keyframe& k : *rec) sets.push_back(k.descriptors);
     }
     PlaceIndex index(Vocabulary::Train(sets, vc));
-    for (const Eigen::MatrixXf& d : sets) index.Add(d);
+    const std::vector<Eigen::MatrixXf> described =
+        WithNeighbours(sets, {static_cast<int>(a.size()), static_cast<int>(b.size())}, neighbours);
+    for (const Eigen::MatrixXf& d : described) index.Add(d);
     index.Finalize();
     std::vector<int> database;
     for (std::size_t i = 0; i < a.size(); ++i) database.push_back(static_cast<int>(i));

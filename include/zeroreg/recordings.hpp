@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -52,9 +53,15 @@ struct RecordingsConfig {
   int keyframe_every = 10;
   int vocabulary_words = 256;
   std::uint64_t vocabulary_seed = 0;
+  // Place recognition describes each keyframe with the words of the this many keyframes before
+  // and after it in its recording too (WithNeighbours, place_recognition.hpp): a place seen again
+  // from across a room shares more words with a few neighbouring views than with one.
+  int place_neighbours = 2;
   // Candidates: per query keyframe, the best-ranked keyframes of the other recording (merge) or
-  // of the same one at least `min_separation` keyframes away (loops).
-  int candidates_per_keyframe = 5;
+  // of the same one at least `min_separation` keyframes away (loops). On the sessions' redkitchen
+  // split a B keyframe sees 8 of A's 24 keyframes on average (co-visibility >= 0.3): 5 candidates
+  // cannot reach half of those pairs, 10 can (loop recall 0.42 -> 0.63, docs/RECORDINGS.md).
+  int candidates_per_keyframe = 10;
   int min_separation = 10;
   // The pair registrar of verification and of the chain of a recording without poses: "zeroreg"
   // (Pipeline::Register from prepared keyframes, its verdict) or "sift-ransac" (the SIFT + RANSAC
@@ -133,10 +140,17 @@ struct LoopCandidateResult {
   Transform T_u_v = Transform::Identity();
   int inliers = 0;
   double overlap = 0.0;
+  // The transform's uncertainty from its inlier correspondences (a rigid fit's covariance, the
+  // noise from their residuals; src/recordings/loop_uncertainty.hpp): the standard deviation of
+  // the rotation and of v's position in u's frame along their least determined axes. Infinite
+  // when fewer than three inliers, or inliers on a line, support the transform.
+  double rotation_sigma_deg = std::numeric_limits<double>::infinity();
+  double translation_sigma_m = std::numeric_limits<double>::infinity();
   // "accepted", "inconsistent" (valid, outside the largest consistent set), "rival" (valid, in the
   // second largest set), "ambiguous" (the largest set, refused for a large rival), "too_few"
   // (valid, but the consistent set is below min_consistent_loops), "residual" (consistent, but
-  // off the optimised graph), "invalid" (the pair registration is not valid).
+  // off the optimised graph), "unsupported" (valid, but its inliers do not determine the
+  // transform: infinite sigmas), "invalid" (the pair registration is not valid).
   std::string verdict;
   bool resumed = false;  // read back from loops.jsonl
 };
@@ -164,10 +178,10 @@ struct RecordingsResult {
 // The result as JSON (what the Python module returns): transforms as 4 rows of 4 numbers.
 nlohmann::json RecordingsResultToJson(const RecordingsResult& result);
 // Sets the RecordingsConfig fields named by the keys of `options` (keyframe_covisibility,
-// keyframe_every, vocabulary_words, vocabulary_seed, candidates_per_keyframe, min_separation,
-// registrar, min_consistent_loops, prepared_budget_mib, cloud_voxel_m, progress, write_cloud,
-// write_report, shard ("I/N"), edges (a list of files)). Throws InputError naming `where` and the
-// key for an unknown key or a wrong type.
+// keyframe_every, vocabulary_words, vocabulary_seed, place_neighbours, candidates_per_keyframe,
+// min_separation, registrar, min_consistent_loops, prepared_budget_mib, cloud_voxel_m, progress,
+// write_cloud, write_report, shard ("I/N"), edges (a list of files)). Throws InputError naming
+// `where` and the key for an unknown key or a wrong type.
 void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& where,
                             RecordingsConfig* config);
 

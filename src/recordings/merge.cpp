@@ -9,6 +9,7 @@
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -22,6 +23,7 @@
 #include "recordings/edge_files.hpp"
 #include "recordings/keyframes.hpp"
 #include "recordings/loop_consistency.hpp"
+#include "recordings/loop_uncertainty.hpp"
 #include "recordings/place_recognition.hpp"
 #include "recordings/pose_graph.hpp"
 #include "recordings/report.hpp"
@@ -52,6 +54,12 @@ struct Keyframe {
   ColoredCloud cloud;  // camera frame, thinned
 };
 
+// An uncertainty in loops.jsonl: null when infinite (JSON has no infinity).
+json Sigma(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }
+double SigmaFrom(const json& value) {
+  return value.is_null() ? std::numeric_limits<double>::infinity() : value.get<double>();
+}
+
 class Runner {
  public:
   Runner(std::vector<RecordingInput> inputs, const RecordingsConfig& config)
@@ -78,6 +86,10 @@ class Runner {
     Transform T_target_source = Transform::Identity();
     int inliers = 0;
     double overlap = 0.0;  // the verification's (zeroreg); 0 for the baseline
+    // How well its inlier correspondences pin the transform (loop_uncertainty.hpp); infinite
+    // when they cannot.
+    double rotation_sigma_deg = std::numeric_limits<double>::infinity();
+    double translation_sigma_m = std::numeric_limits<double>::infinity();
   };
   PairRegistration RegisterPair(const Keyframe& source, const Keyframe& target);
   void SelectKeyframes(int recording);
@@ -117,16 +129,34 @@ PreparedScan Runner::Prepared(const Keyframe& k) {
 }
 
 Runner::PairRegistration Runner::RegisterPair(const Keyframe& source, const Keyframe& target) {
+  PairRegistration out;
+  LoopUncertainty uncertainty;
   if (config_.registrar == "zeroreg") {
     const RegistrationResult r = pipeline_->Register(Prepared(source), Prepared(target));
-    return {r.valid,           r.reason,      PathName(r.path),
-            r.T_target_source, r.num_inliers, r.verification.overlap};
+    out = {r.valid, r.reason, PathName(r.path), r.T_target_source, r.num_inliers,
+           r.verification.overlap};
+    uncertainty = UncertaintyOfRegistration(r);
+  } else {
+    const auto scan = [&](const Keyframe& k) {
+      return ScanFromView(datasets_[k.recording]->LoadFrame(k.frame));
+    };
+    const FeatureBaselineConfig baseline;
+    const MethodOutput m = RunFeatureBaseline(baseline, scan(source), scan(target));
+    out = {m.valid, m.reason, m.path, m.T_target_source, m.num_inliers, 0.0};
+    // The baseline keeps no inlier flags: its inliers are the correspondences within RANSAC's
+    // threshold of its transform.
+    std::vector<Eigen::Vector3d> from, to;
+    for (const Correspondence& c : m.correspondences) {
+      const Eigen::Vector3d moved = (m.T_target_source * c.source.homogeneous()).head<3>();
+      if ((moved - c.target).norm() > baseline.ransac.inlier_threshold_m) continue;
+      from.push_back(c.source);
+      to.push_back(c.target);
+    }
+    uncertainty = UncertaintyOfFit(from, to, m.T_target_source);
   }
-  const auto scan = [&](const Keyframe& k) {
-    return ScanFromView(datasets_[k.recording]->LoadFrame(k.frame));
-  };
-  const MethodOutput out = RunFeatureBaseline(FeatureBaselineConfig(), scan(source), scan(target));
-  return {out.valid, out.reason, out.path, out.T_target_source, out.num_inliers, 0.0};
+  out.rotation_sigma_deg = uncertainty.rotation_sigma_rad / kRadiansPerDegree;
+  out.translation_sigma_m = uncertainty.translation_sigma_m;
+  return out;
 }
 
 json Runner::Settings() const {
@@ -148,6 +178,7 @@ json Runner::Settings() const {
           {"keyframe_every", c.keyframe_every},
           {"vocabulary_words", c.vocabulary_words},
           {"vocabulary_seed", c.vocabulary_seed},
+          {"place_neighbours", c.place_neighbours},
           {"candidates_per_keyframe", c.candidates_per_keyframe},
           {"min_separation", c.min_separation},
           {"registrar", c.registrar}};
@@ -309,7 +340,11 @@ void Runner::FindCandidates() {
   vc.seed = config_.vocabulary_seed;
   ValidateVocabularyConfig(vc);
   PlaceIndex index(Vocabulary::Train(sets, vc));
-  for (const Eigen::MatrixXf& d : sets) index.Add(d);
+  std::vector<int> sizes;
+  for (const std::vector<int>& nodes : nodes_of_) sizes.push_back(static_cast<int>(nodes.size()));
+  for (const Eigen::MatrixXf& d : WithNeighbours(sets, sizes, config_.place_neighbours)) {
+    index.Add(d);
+  }
   index.Finalize();
   for (Keyframe& k : keyframes_) k.descriptors.resize(0, 0);  // only the index needs them now
   const int k = config_.candidates_per_keyframe;
@@ -399,7 +434,8 @@ void Runner::Verify() {
     const Keyframe& u = keyframes_[c.u];
     const Keyframe& v = keyframes_[c.v];
     const auto it = resumed_.find(PairKey(u.recording, u.frame, v.recording, v.frame));
-    if (it == resumed_.end()) {
+    // A record without the uncertainty comes from an older run: registered again.
+    if (it == resumed_.end() || !it->second.contains("rotation_sigma_deg")) {
       todo.push_back(i);
       continue;
     }
@@ -409,6 +445,8 @@ void Runner::Verify() {
     c.path = record.at("path").get<std::string>();
     c.inliers = record.at("inliers").get<int>();
     c.overlap = record.at("overlap").get<double>();
+    c.rotation_sigma_deg = SigmaFrom(record.at("rotation_sigma_deg"));
+    c.translation_sigma_m = SigmaFrom(record.at("translation_sigma_m"));
     const json& T = record.at("T_u_v");
     for (int r = 0; r < 4; ++r) {
       for (int col = 0; col < 4; ++col) c.T_u_v(r, col) = T.at(r).at(col).get<double>();
@@ -436,12 +474,16 @@ void Runner::Verify() {
       c.T_u_v = r.T_target_source;
       c.inliers = r.inliers;
       c.overlap = r.overlap;
+      c.rotation_sigma_deg = r.rotation_sigma_deg;
+      c.translation_sigma_m = r.translation_sigma_m;
       const json record = {{"key", PairKey(u.recording, u.frame, v.recording, v.frame)},
                            {"valid", c.valid},
                            {"reason", c.reason},
                            {"path", c.path},
                            {"inliers", c.inliers},
                            {"overlap", c.overlap},
+                           {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+                           {"translation_sigma_m", Sigma(c.translation_sigma_m)},
                            {"T_u_v", TransformToJson(c.T_u_v)}};
       std::lock_guard<std::mutex> lock(mutex);
       if (loops.is_open()) loops << record.dump() << "\n" << std::flush;
@@ -476,6 +518,14 @@ void Runner::Decide() {
     LoopCandidateResult& c = result_.candidates[i];
     if (!c.valid) {
       c.verdict = "invalid";
+      continue;
+    }
+    // Fewer than three inliers (or inliers on a line) under the transform: its correspondences do
+    // not determine it, so nothing bounds where it puts v's camera (dense agreement of the depth
+    // near the cameras leaves a rotation about it free to move a camera 1.5 m away by
+    // centimetres). It neither votes in the consistency check nor enters the graph.
+    if (!std::isfinite(c.rotation_sigma_deg) || !std::isfinite(c.translation_sigma_m)) {
+      c.verdict = "unsupported";
       continue;
     }
     c.verdict = "inconsistent";
@@ -694,6 +744,8 @@ void Runner::WriteOutputs() {
           {"path", c.path},
           {"inliers", c.inliers},
           {"overlap", c.overlap},
+          {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+          {"translation_sigma_m", Sigma(c.translation_sigma_m)},
           {"T_u_v", TransformToJson(c.T_u_v)},
           {"verdict", c.verdict}};
       out << record.dump() << "\n";
@@ -754,12 +806,14 @@ void Runner::WriteOutputs() {
 
 RecordingsResult Runner::Run() {
   if (config_.candidates_per_keyframe < 1 || config_.min_separation < 1 ||
-      config_.min_consistent_loops < 1 || !(config_.cloud_voxel_m > 0) ||
-      !(config_.loop_sigma_deg > 0) || !(config_.loop_sigma_m > 0) ||
-      !(config_.odometry_sigma_deg_per_frame > 0) || !(config_.odometry_sigma_fraction >= 0)) {
+      config_.place_neighbours < 0 || config_.min_consistent_loops < 1 ||
+      !(config_.cloud_voxel_m > 0) || !(config_.loop_sigma_deg > 0) ||
+      !(config_.loop_sigma_m > 0) || !(config_.odometry_sigma_deg_per_frame > 0) ||
+      !(config_.odometry_sigma_fraction >= 0)) {
     throw InputError(
         "recordings config: candidates_per_keyframe, min_separation, min_consistent_loops, "
-        "cloud_voxel_m and the loop and odometry sigmas must be positive");
+        "cloud_voxel_m and the loop and odometry sigmas must be positive, place_neighbours at "
+        "least 0");
   }
   if (config_.shard_count > 0 || config_.shard_index != 0) {
     if (config_.shard_index < 1 || config_.shard_index > config_.shard_count) {
@@ -882,6 +936,8 @@ nlohmann::json RecordingsResultToJson(const RecordingsResult& r) {
                           {"T_u_v", TransformToJson(c.T_u_v)},
                           {"inliers", c.inliers},
                           {"overlap", c.overlap},
+                          {"rotation_sigma_deg", Sigma(c.rotation_sigma_deg)},
+                          {"translation_sigma_m", Sigma(c.translation_sigma_m)},
                           {"verdict", c.verdict},
                           {"resumed", c.resumed}});
   }
@@ -929,6 +985,8 @@ void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& wh
       config->vocabulary_words = static_cast<int>(integer());
     } else if (key == "vocabulary_seed") {
       config->vocabulary_seed = static_cast<std::uint64_t>(integer());
+    } else if (key == "place_neighbours") {
+      config->place_neighbours = static_cast<int>(integer());
     } else if (key == "candidates_per_keyframe") {
       config->candidates_per_keyframe = static_cast<int>(integer());
     } else if (key == "min_separation") {

@@ -325,4 +325,41 @@ std::vector<std::pair<int, int>> FarApartCandidates(const PlaceIndex& index, int
   return pairs;
 }
 
+std::vector<Eigen::MatrixXf> WithNeighbours(const std::vector<Eigen::MatrixXf>& sets,
+                                            const std::vector<int>& recording_sizes,
+                                            int neighbours) {
+  int total = 0;
+  for (int n : recording_sizes) total += n;
+  if (total != static_cast<int>(sets.size()) || neighbours < 0) {
+    throw InputError("WithNeighbours: recordings of " + std::to_string(total) + " keyframes for " +
+                     std::to_string(sets.size()) + " descriptor sets, neighbours " +
+                     std::to_string(neighbours) + "; expected equal counts and neighbours >= 0");
+  }
+  if (neighbours == 0) return sets;
+  std::vector<Eigen::MatrixXf> out;
+  out.reserve(sets.size());
+  int first = 0;
+  for (int n : recording_sizes) {
+    for (int i = 0; i < n; ++i) {
+      const int lo = std::max(0, i - neighbours), hi = std::min(n - 1, i + neighbours);
+      Eigen::Index rows = 0, cols = 0;
+      for (int j = lo; j <= hi; ++j) {
+        rows += sets[static_cast<std::size_t>(first + j)].rows();
+        cols = std::max(cols, sets[static_cast<std::size_t>(first + j)].cols());
+      }
+      Eigen::MatrixXf d(rows, cols);
+      Eigen::Index row = 0;
+      for (int j = lo; j <= hi; ++j) {
+        const Eigen::MatrixXf& part = sets[static_cast<std::size_t>(first + j)];
+        if (part.rows() == 0) continue;
+        d.middleRows(row, part.rows()) = part;
+        row += part.rows();
+      }
+      out.push_back(std::move(d));
+    }
+    first += n;
+  }
+  return out;
+}
+
 }  // namespace zeroreg

@@ -108,4 +108,14 @@ std::vector<PlaceCandidate> RerankByMatches(const std::vector<PlaceCandidate>& c
 std::vector<std::pair<int, int>> FarApartCandidates(const PlaceIndex& index, int min_separation,
                                                     int k);
 
+// Each keyframe's descriptors together with those of the `neighbours` keyframes before and after
+// it in its own recording (`sets` holds the recordings one after another, `recording_sizes`
+// keyframes each). A place revisited from elsewhere shares more words with the few views around
+// a keyframe than with the one view alone: consecutive keyframes see overlapping parts of a place
+// from a little apart. neighbours = 0 returns `sets`. Throws InputError when the sizes
+// do not add up to the sets.
+std::vector<Eigen::MatrixXf> WithNeighbours(const std::vector<Eigen::MatrixXf>& sets,
+                                            const std::vector<int>& recording_sizes,
+                                            int neighbours);
+
 }  // namespace zeroreg

@@ -14,7 +14,7 @@ namespace {
 const char* VerdictColor(const std::string& verdict) {
   if (verdict == "accepted") return "#2a9d3a";
   if (verdict == "invalid") return "#cccccc";
-  return "#d62828";  // valid but not accepted: inconsistent, rival, ambiguous, too few
+  return "#d62828";  // valid but not accepted: unsupported, inconsistent, rival, ambiguous, ...
 }
 
 struct View2D {

@@ -11,10 +11,11 @@
 
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
-#include "recordings/open3d_baseline.hpp"
+#include "rigid_motion.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
+#include "zeroreg/json.hpp"
 #include "zeroreg/recordings.hpp"
 
 namespace zeroreg {
@@ -121,6 +122,56 @@ TEST_F(MergeTest, ResumesAKilledRunFromItsVerifiedCandidates) {
   EXPECT_EQ(resumed.found, full.found);
   EXPECT_TRUE(resumed.T_A_B.isApprox(full.T_A_B, 1e-9));
   EXPECT_TRUE(fs::exists(dir / "T_A_B.txt"));
+  fs::remove_all(dir);
+}
+
+// Two registrations that no correspondence supports (zero inliers: placed by dense depth alone),
+// planted among the real ones, agree with each other on a placement of B turned 30 degrees. They
+// must not vote: counted as a second placement, they would make the merge refuse as ambiguous.
+TEST_F(MergeTest, RegistrationsWithoutSupportingInliersDoNotVote) {
+  const fs::path dir = testing::FreshTestDir("zeroreg_merge_");
+  config_.out_dir = dir.string();
+  config_.write_cloud = false;
+  config_.write_report = false;
+  const RecordingsResult full = MergeRecordings(a_, b_, config_);
+  ASSERT_TRUE(full.found) << full.reason;
+  const Transform turned = testing::MakeTransform(30.0 * M_PI / 180.0, Eigen::Vector3d::UnitY(),
+                                                  Eigen::Vector3d::Zero()) *
+                           TrueT_A_B();
+  std::vector<nlohmann::json> records;
+  {
+    std::ifstream in((dir / "loops.jsonl").string());
+    for (std::string line; std::getline(in, line);) records.push_back(nlohmann::json::parse(line));
+  }
+  // The planted two: candidates the real run did not accept, for two different B keyframes.
+  std::vector<std::size_t> planted;
+  for (std::size_t i = 0; i < records.size() && planted.size() < 2; ++i) {
+    const LoopCandidateResult& c = full.candidates[i];
+    if (c.verdict == "accepted") continue;
+    if (!planted.empty() && full.candidates[planted[0]].v == c.v) continue;
+    planted.push_back(i);
+  }
+  ASSERT_EQ(planted.size(), 2u) << "the short split has too few candidates left to plant on";
+  for (std::size_t i : planted) {
+    const LoopCandidateResult& c = full.candidates[i];
+    const Transform T_u_v =
+        full.keyframes[c.u].T_before.inverse() * turned * full.keyframes[c.v].T_before;
+    records[i]["valid"] = true;
+    records[i]["reason"] = "planted";
+    records[i]["inliers"] = 0;
+    records[i]["rotation_sigma_deg"] = nullptr;
+    records[i]["translation_sigma_m"] = nullptr;
+    records[i]["T_u_v"] = TransformToJson(T_u_v);
+  }
+  {
+    std::ofstream out((dir / "loops.jsonl").string());
+    for (const nlohmann::json& record : records) out << record.dump() << "\n";
+  }
+  const RecordingsResult r = MergeRecordings(a_, b_, config_);
+  ASSERT_TRUE(r.found) << r.reason;
+  for (std::size_t i : planted) EXPECT_EQ(r.candidates[i].verdict, "unsupported");
+  EXPECT_LE(RotationErrorDeg(r.T_A_B, TrueT_A_B()), 2.0);
+  EXPECT_LE(TranslationErrorM(r.T_A_B, TrueT_A_B()), 0.05);
   fs::remove_all(dir);
 }
 

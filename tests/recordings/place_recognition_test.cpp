@@ -149,6 +149,24 @@ TEST(PlaceRecognition, MutualMatchesCountOneToOnePairsAboveTheCosine) {
   EXPECT_EQ(out[1].score, 1.0);
 }
 
+// Each keyframe with its neighbours in its own recording, never across into the other one.
+TEST(PlaceRecognition, NeighboursJoinWithinTheirRecordingOnly) {
+  const std::vector<Eigen::MatrixXf> sets = {Words({0}), Words({1}), Words({2}), Words({3}),
+                                             Words({0, 3})};
+  const std::vector<Eigen::MatrixXf> same = WithNeighbours(sets, {3, 2}, 0);
+  ASSERT_EQ(same.size(), sets.size());
+  for (std::size_t i = 0; i < sets.size(); ++i) EXPECT_TRUE(same[i].isApprox(sets[i]));
+  const std::vector<Eigen::MatrixXf> joined = WithNeighbours(sets, {3, 2}, 1);
+  ASSERT_EQ(joined.size(), sets.size());
+  const std::vector<Eigen::Index> rows = {2, 3, 2, 3,
+                                          3};  // keyframe 2 stops at its recording's end
+  for (std::size_t i = 0; i < sets.size(); ++i) EXPECT_EQ(joined[i].rows(), rows[i]) << i;
+  EXPECT_TRUE(joined[2].isApprox((Eigen::MatrixXf(2, 4) << sets[1], sets[2]).finished()));
+  EXPECT_TRUE(joined[3].isApprox((Eigen::MatrixXf(3, 4) << sets[3], sets[4]).finished()));
+  EXPECT_THROW(WithNeighbours(sets, {3, 1}, 1), InputError);
+  EXPECT_THROW(WithNeighbours(sets, {3, 2}, -1), InputError);
+}
+
 TEST(PlaceRecognition, BadInputIsRefused) {
   EXPECT_THROW(Vocabulary::Train({}), InputError);
   EXPECT_THROW(Vocabulary::Train({Eigen::MatrixXf(2, 4), Eigen::MatrixXf(2, 5)}), InputError);
