@@ -89,6 +89,7 @@ def main():
                     v = r.get("verification") or {}
                     rec = {"list": name, "scene": scene, "target": i, "source": j,
                            "mirrored": mirrored, "valid": bool(r["valid"]), "path": r["path"],
+                           "T_est": np.asarray(r["T_target_source"]).tolist(),
                            "inliers": r["counts"].get("inliers"),
                            "correspondences": r["counts"].get("correspondences"),
                            "refusal": r.get("refusal"),

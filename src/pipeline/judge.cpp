@@ -181,6 +181,8 @@ const char* RefusalTestName(RefusalTest test) {
       return "another_pose_passes";
     case RefusalTest::kAmbiguous:
       return "ambiguous";
+    case RefusalTest::kMirrorImage:
+      return "mirror_image";
   }
   return "";
 }
@@ -225,6 +227,11 @@ std::string DescribeRefusal(const Refusal& r) {
       break;
     case RefusalTest::kAmbiguous:
       what = "ambiguous: two poses fit, %g m apart (the check tells poses apart beyond %g m)";
+      break;
+    case RefusalTest::kMirrorImage:
+      what =
+          "a mirror image: %g distinctive matches with the source flipped left-right (%g make "
+          "a mirror image)";
       break;
   }
   char text[200];
