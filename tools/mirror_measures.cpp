@@ -75,11 +75,12 @@ constexpr int kAgreementKeypoints = 1024;
 
 // Whether a point at camera depth z that lands at pixel (u, v) of `view` lies on its measured
 // surface: some depth reading within verify.neighbourhood_px agrees within the check's tolerance.
-bool OnSurface(const View& view, double u, double v, double z, const VerifyConfig& verify) {
+bool OnSurface(const View& view, double u, double v, double z, const VerifyConfig& verify,
+               const DepthModel& depth) {
   const int x0 = static_cast<int>(std::lround(u));
   const int y0 = static_cast<int>(std::lround(v));
   const int r = std::max(0, verify.neighbourhood_px);
-  const double sigma = verify.depth_noise_at_1m_m * z * z;
+  const double sigma = depth.noise_at_1m_m * std::pow(z, depth.noise_exponent);
   const double tau = verify.registration_tolerance_m + verify.depth_noise_sigmas * sigma;
   for (int y = y0 - r; y <= y0 + r; ++y) {
     if (y < 0 || y >= view.depth.rows) continue;
@@ -87,7 +88,7 @@ bool OnSurface(const View& view, double u, double v, double z, const VerifyConfi
     for (int x = x0 - r; x <= x0 + r; ++x) {
       if (x < 0 || x >= view.depth.cols) continue;
       const double d = row[x];
-      if (!(d >= verify.min_depth_m && d <= verify.max_depth_m)) continue;
+      if (!(d >= depth.min_m && d <= depth.max_m)) continue;
       if (std::abs(z - d) <= tau) return true;
     }
   }
@@ -99,7 +100,7 @@ KeypointAgreement MeasureKeypointAgreement(const std::vector<LiftedFeatures>& so
                                            const std::vector<LiftedFeatures>& target,
                                            const Scan& target_scan,
                                            const Transform& T_target_source,
-                                           const VerifyConfig& verify,
+                                           const VerifyConfig& verify, const DepthModel& depth,
                                            const AgreementSettings& settings) {
   KeypointAgreement out;
   const size_t views = std::min(target.size(), target_scan.views.size());
@@ -125,11 +126,11 @@ KeypointAgreement MeasureKeypointAgreement(const std::vector<LiftedFeatures>& so
       for (size_t t = 0; t < views; ++t) {
         const View& view = target_scan.views[t];
         const Eigen::Vector3d c = (camera_from_scan[t] * q.homogeneous()).head<3>();
-        if (c.z() < verify.min_depth_m) continue;
+        if (c.z() < depth.min_m) continue;
         const double u = view.intrinsics.fx * c.x() / c.z() + view.intrinsics.cx;
         const double v = view.intrinsics.fy * c.y() / c.z() + view.intrinsics.cy;
         if (u < 0 || v < 0 || u > view.depth.cols - 1 || v > view.depth.rows - 1) continue;
-        if (!OnSurface(view, u, v, c.z(), verify)) continue;
+        if (!OnSurface(view, u, v, c.z(), verify, depth)) continue;
         rows[t].emplace_back(static_cast<int>(s), i);
         landed[t].push_back(q);
         const Eigen::Vector3d to_source = source_centre - q;
@@ -182,7 +183,8 @@ std::vector<LiftedFeatures> Features(const FeatureExtractor& extractor, const Sc
                                      const PipelineConfig& config) {
   std::vector<LiftedFeatures> out;
   for (const View& view : scan.views) {
-    out.push_back(ExtractLiftedFeatures(extractor, view, LiftForView(config.lift, view)));
+    out.push_back(
+        ExtractLiftedFeatures(extractor, view, LiftForView(config.lift, config.depth, view)));
   }
   return out;
 }
@@ -244,16 +246,18 @@ int Run(int argc, char** argv) {
                                 source.views[0].T_scan_camera.topLeftCorner<3, 3>();
       out["camera_turn_deg"] = std::acos(std::clamp((R.trace() - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;
       // Handedness of the images: distinctive matches of the source as given and flipped.
-      std::vector<LiftConfig> lifts;
-      for (const View& view : source.views) lifts.push_back(LiftForView(config.lift, view));
+      std::vector<ViewLift> lifts;
+      for (const View& view : source.views) {
+        lifts.push_back(LiftForView(config.lift, config.depth, view));
+      }
       out["distinctive"] = DistinctiveMatches(fs, ft);
       out["distinctive_flipped"] =
           DistinctiveMatches(ExtractMirroredFeatures(*extractor, source, lifts), ft);
       for (double radius : radii) {
         AgreementSettings settings;
         settings.radius_m = radius;
-        const KeypointAgreement a =
-            MeasureKeypointAgreement(fs, source, ft, target, T, config.verify, settings);
+        const KeypointAgreement a = MeasureKeypointAgreement(fs, source, ft, target, T,
+                                                             config.verify, config.depth, settings);
         out["r" + std::to_string(static_cast<int>(radius * 100 + 0.5))] = {
             a.covisible, a.agreeing, a.chance, a.covisible_near, a.agreeing_near, a.chance_near};
       }

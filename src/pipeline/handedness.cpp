@@ -5,13 +5,11 @@
 
 #include <opencv2/core.hpp>
 
-#include "estimate/lift.hpp"
-
 namespace zeroreg {
 
 std::vector<LiftedFeatures> ExtractMirroredFeatures(const FeatureExtractor& extractor,
                                                     const Scan& scan,
-                                                    const std::vector<LiftConfig>& lifts) {
+                                                    const std::vector<ViewLift>& lifts) {
   std::vector<LiftedFeatures> out;
   for (size_t v = 0; v < scan.views.size() && v < lifts.size(); ++v) {
     const View& view = scan.views[v];

@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "estimate/lift.hpp"
 #include "features/feature_extractor.hpp"
 #include "pipeline/image_correspondences.hpp"
 #include "pipeline/prepared.hpp"
@@ -20,7 +21,7 @@ namespace zeroreg {
 // pixels and lifted with its depth (`lifts`: per view, as the unflipped ones were).
 std::vector<LiftedFeatures> ExtractMirroredFeatures(const FeatureExtractor& extractor,
                                                     const Scan& scan,
-                                                    const std::vector<LiftConfig>& lifts);
+                                                    const std::vector<ViewLift>& lifts);
 
 // Distinctive matches (ViewOverlapScore) of the source's views with the target's, as given and
 // with the source's images flipped left-right: per source view the best target view's, summed.

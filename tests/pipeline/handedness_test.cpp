@@ -63,7 +63,7 @@ TEST(Handedness, MirroredFeaturesAreInTheViewsOwnPixels) {
   Scan scan;
   scan.views.push_back(view);
   const std::vector<LiftedFeatures> f =
-      ExtractMirroredFeatures(OnePointExtractor(), scan, {LiftConfig()});
+      ExtractMirroredFeatures(OnePointExtractor(), scan, {ViewLift()});
   ASSERT_EQ(f.size(), 1u);
   ASSERT_EQ(f[0].features.size(), 1);
   EXPECT_FLOAT_EQ(f[0].features.keypoints[0].x(), 29.0f);
