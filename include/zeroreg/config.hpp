@@ -439,6 +439,15 @@ struct VerifyConfig {
   double min_probe_contradicted = 0.02;
   // At least this many sampled points per scan, or there is nothing to verify with.
   int min_points = 200;
+  // Mirror images (src/pipeline/handedness.hpp): a valid result is refused when the source's
+  // images flipped left-right share at least mirror_min_matches distinctive matches with the
+  // target's and at least mirror_ratio times as many as unflipped. Measured (the source frame
+  // flipped, scripts/bench-mirrored.py; the right results of every list of ../shared/lists): a
+  // mirrored frame 20-475 flipped against 0-22 as given (ratio 3.4 and more; the TUM cabinet's
+  // near-symmetric texture is the lowest); right results at most 35 flipped, and where 10 or more
+  // at most 1.9 times as many as unflipped. 0 = off.
+  int mirror_min_matches = 20;
+  double mirror_ratio = 2.5;
 };
 
 // Building the objects of a scan from its views' masks (paper §3.2).

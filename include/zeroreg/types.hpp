@@ -182,6 +182,9 @@ enum class RefusalTest {
                         // refine.max_distance_coarse_m
   kAmbiguous,           // RMS apart over the source surface of the two poses that fit (m);
                         // refine.max_distance_coarse_m (RegistrationResult::alternatives)
+  kMirrorImage,         // distinctive matches of the source's images flipped left-right; the
+                        // larger of verify.mirror_min_matches and verify.mirror_ratio times the
+                        // matches as given (src/pipeline/handedness.hpp)
 };
 struct Refusal {
   RefusalTest test = RefusalTest::kNone;

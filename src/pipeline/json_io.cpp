@@ -124,6 +124,8 @@ void Visit(V& v, VerifyConfig& c) {
   v("probe_translation_m", c.probe_translation_m, AtLeast(0));
   v("min_probe_contradicted", c.min_probe_contradicted, Fraction());
   v("min_points", c.min_points, AtLeast(1));
+  v("mirror_min_matches", c.mirror_min_matches, AtLeast(0));
+  v("mirror_ratio", c.mirror_ratio, AtLeast(1));
 }
 template <typename V>
 void Visit(V& v, RefineConfig& c) {

@@ -181,6 +181,8 @@ const char* RefusalTestName(RefusalTest test) {
       return "another_pose_passes";
     case RefusalTest::kAmbiguous:
       return "ambiguous";
+    case RefusalTest::kMirrorImage:
+      return "mirror_image";
   }
   return "";
 }
@@ -226,6 +228,11 @@ std::string DescribeRefusal(const Refusal& r) {
     case RefusalTest::kAmbiguous:
       what = "ambiguous: two poses fit, %g m apart (the check tells poses apart beyond %g m)";
       break;
+    case RefusalTest::kMirrorImage:
+      what =
+          "a mirror image: %g distinctive matches with the source flipped left-right (%g make "
+          "a mirror image)";
+      break;
   }
   char text[200];
   std::snprintf(text, sizeof(text), what, r.measured, r.threshold);
@@ -237,14 +244,20 @@ std::string DescribeRefusal(const Refusal& r) {
 void Judge::Check(const PipelineConfig& config, const std::string& name,
                   RegistrationResult* r) const {
   if (!config.verify.enabled) return;
+  FoldCheck(VerifyRegistration(source_.scan, source_.surface, target_.scan, target_.surface,
+                               r->T_target_source, config.verify, config.depth),
+            config.verify, name, r);
+}
+
+void FoldCheck(const VerificationResult& v, const VerifyConfig& config, const std::string& name,
+               RegistrationResult* r) {
   const bool evidence = r->count_test_passed;
-  r->verification = VerifyRegistration(source_.scan, source_.surface, target_.scan, target_.surface,
-                                       r->T_target_source, config.verify, config.depth);
+  r->verification = v;
   r->candidates.push_back(
       {name, r->T_target_source, r->verification.score, evidence && r->verification.passed, false});
   if (!evidence) return;  // the count reason stands
   r->valid = r->verification.passed;
-  r->refusal = CheckRefusal(r->verification, config.verify);
+  r->refusal = CheckRefusal(r->verification, config);
   r->reason = r->verification.reason + " (" + r->reason + ")";
 }
 
@@ -286,57 +299,31 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
     refined.candidates.push_back({PathName(r->path) + " icp", refined.T_target_source,
                                   refined.verification.score, refined.verification.passed, false});
     r->candidates = refined.candidates;
-    // A refinement keeps the evidence it started from: most of the correspondences that
-    // supported the estimate stay within ICP's own pull-in range (the coarse gate; at the 5 cm
-    // inlier distance correct 5 cm corrections were refused). ICP that left them moved 25-70 cm
-    // into another minimum of the depth fit: a new registration the images contradict. The test
-    // applies to an estimate the check accepted: under a refused one the correspondences are no
-    // evidence (repeated cabinet fronts 8-10 deg off, from which ICP reaches the truth), so the
-    // check judges ICP alone; except in degenerate geometry, where it cannot (a wall lets ICP
-    // slide a metre and still pass). The extra sources are held to more (KeptEvidence): a few
-    // centroids pin no surface, and ICP from their refused estimate travelled 1.2-1.4 m into a
-    // wrong pose the check accepted, so their refinement keeps its evidence always.
-    const bool keep_evidence = pipeline.hypotheses.refine_keeps_evidence;
-    const bool evidence_needed = r->verification.passed || refined.verification.degenerate ||
-                                 (keep_evidence && rule.fraction_always);
-    const double gate_m =
-        std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m);
-    const int kept = CountWithin(*r, icp.T_target_source, gate_m);
-    // Three correspondences agree with some motion whenever their pairwise distances do: an extra
-    // source's refinement keeps at least four of them, checked or not.
-    const double kept_floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
-    const double kept_needed =
-        evidence_needed ? std::max(config.min_kept_inlier_fraction * r->num_inliers, kept_floor)
-                        : kept_floor;
-    if (kept < kept_needed) {
-      std::snprintf(note, sizeof(note),
-                    "; ICP refinement rejected: only %d of the %d correspondences that support "
-                    "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
-                    kept, r->num_inliers, gate_m, moved_m * 100, turned_deg);
+    const int kept =
+        CountWithin(*r, icp.T_target_source,
+                    std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m));
+    const Refinement verdict = JudgeRefinement(*r, refined, kept, pipeline, rule);
+    if (verdict.kept != Refinement::kKept) {
+      if (verdict.kept == Refinement::kLeftItsEvidence) {
+        std::snprintf(note, sizeof(note),
+                      "; ICP refinement rejected: only %d of the %d correspondences that support "
+                      "the estimate stay within %.2f m of it (it would move %.1f cm, %.2f deg)",
+                      kept, r->num_inliers, verdict.gate_m, moved_m * 100, turned_deg);
+      } else {
+        std::snprintf(note, sizeof(note),
+                      "; ICP refinement rejected: the scans agree less after it (score %.3f < "
+                      "%.3f; it would move %.1f cm, %.2f deg)",
+                      refined.verification.score, r->verification.score, moved_m * 100, turned_deg);
+      }
       r->reason += note;
-      // An extra source's estimate the check accepted, whose refinement left its evidence for
-      // another pose the check accepts as well, farther than ICP's widest gate: the check cannot
-      // choose between two poses it accepts (as for hypotheses.always), and the estimate rests on
-      // a few correspondences of a source that runs because the method's own estimate failed,
-      // counted without an inlier ratio (hypotheses.min_inlier_ratio). Neither is valid (a
-      // geometry estimate 179 deg off scored 0.205, ICP's pose 76 cm away 0.203).
-      if (keep_evidence && rule.min_kept > 0 && r->valid && refined.verification.passed &&
-          Disagree(EstimateDisplacementRms(*r, refined), pipeline)) {
+      if (verdict.another_pose_passes) {
         r->valid = false;
-        r->refusal = {RefusalTest::kAnotherPosePasses, EstimateDisplacementRms(*r, refined),
+        r->refusal = {RefusalTest::kAnotherPosePasses, verdict.apart_m,
                       pipeline.refine.max_distance_coarse_m};
         r->reason +=
             "; not valid: the check accepts that pose as well, so the scans do not determine "
             "the transform";
       }
-      return;
-    }
-    if (refined.verification.score < r->verification.score) {
-      std::snprintf(note, sizeof(note),
-                    "; ICP refinement rejected: the scans agree less after it (score %.3f < "
-                    "%.3f; it would move %.1f cm, %.2f deg)",
-                    refined.verification.score, r->verification.score, moved_m * 100, turned_deg);
-      r->reason += note;
       return;
     }
     refined.valid = refined.verification.passed;
@@ -351,6 +338,50 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
                 refined.num_correspondences, pipeline.ransac.inlier_threshold_m);
   refined.reason += note;
   *r = std::move(refined);
+}
+
+// A refinement keeps the evidence it started from: most of the correspondences that supported
+// the estimate stay within ICP's own pull-in range (the coarse gate; at the 5 cm inlier distance
+// correct 5 cm corrections were refused). ICP that left them moved 25-70 cm into another minimum
+// of the depth fit: a new registration the images contradict. The test applies to an estimate the
+// check accepted: under a refused one the correspondences are no evidence (repeated cabinet fronts
+// 8-10 deg off, from which ICP reaches the truth), so the check judges ICP alone; except in
+// degenerate geometry, where it cannot (a wall lets ICP slide a metre and still pass). The extra
+// sources are held to more (KeptEvidence): a few centroids pin no surface, and ICP from their
+// refused estimate travelled 1.2-1.4 m into a wrong pose the check accepted, so their refinement
+// keeps its evidence always.
+Refinement JudgeRefinement(const RegistrationResult& estimate, const RegistrationResult& refined,
+                           int kept, const PipelineConfig& pipeline, KeptEvidence rule) {
+  const RefineConfig& config = pipeline.refine;
+  Refinement out;
+  out.gate_m = std::max(config.max_distance_coarse_m, pipeline.ransac.inlier_threshold_m);
+  const bool keep_evidence = pipeline.hypotheses.refine_keeps_evidence;
+  const bool evidence_needed = estimate.verification.passed || refined.verification.degenerate ||
+                               (keep_evidence && rule.fraction_always);
+  // Three correspondences agree with some motion whenever their pairwise distances do: an extra
+  // source's refinement keeps at least four of them, checked or not.
+  const double kept_floor = keep_evidence ? static_cast<double>(rule.min_kept) : 0.0;
+  out.kept_needed =
+      evidence_needed ? std::max(config.min_kept_inlier_fraction * estimate.num_inliers, kept_floor)
+                      : kept_floor;
+  if (kept < out.kept_needed) {
+    out.kept = Refinement::kLeftItsEvidence;
+    // An extra source's estimate the check accepted, whose refinement left its evidence for
+    // another pose the check accepts as well, farther than ICP's widest gate: the check cannot
+    // choose between two poses it accepts (as for hypotheses.always), and the estimate rests on a
+    // few correspondences of a source that runs because the method's own estimate failed, counted
+    // without an inlier ratio (hypotheses.min_inlier_ratio). Neither is valid (a geometry
+    // estimate 179 deg off scored 0.205, ICP's pose 76 cm away 0.203).
+    if (keep_evidence && rule.min_kept > 0 && estimate.valid && refined.verification.passed) {
+      out.apart_m = EstimateDisplacementRms(estimate, refined);
+      out.another_pose_passes = Disagree(out.apart_m, pipeline);
+    }
+    return out;
+  }
+  // ICP is kept only when the check scores it at least as well as the estimate it started from.
+  out.kept = refined.verification.score < estimate.verification.score ? Refinement::kScoresLower
+                                                                      : Refinement::kKept;
+  return out;
 }
 
 PriorDistance DistanceFromPrior(const MotionPrior& prior, const Transform& T) {
@@ -413,23 +444,31 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
   ApplyPrior(&r);
   // A pose source's start moved by ICP is named so ("prior" -> "prior icp").
   if (p.pose && r.T_target_source != *p.pose) r.path.moved_by_icp = true;
-  const HypothesesConfig& h = config_.hypotheses;
-  if (p.refuse_degenerate && r.valid && r.verification.degenerate) {
+  RefuseForTheSource(p.refuse_degenerate, p.images_must_agree, p.pose.has_value(), config_, &out);
+  return out;
+}
+
+void RefuseForTheSource(bool refuse_degenerate, bool images_must_agree, bool from_a_pose,
+                        const PipelineConfig& config, Judged* judged) {
+  RegistrationResult& r = judged->result;
+  const HypothesesConfig& h = config.hypotheses;
+  if (refuse_degenerate && r.valid && r.verification.degenerate) {
     r.valid = false;
     r.refusal = {RefusalTest::kDegenerate, r.verification.probe_contradicted,
-                 config_.verify.min_probe_contradicted};
-    out.refusal = "refused: degenerate geometry";
-    r.reason += p.pose ? "; not valid: the geometry is degenerate and no correspondence fixes the "
-                         "motion it leaves open"
-                       : "; refused: the geometry is degenerate and this source's correspondences "
-                         "are too weak to fix the open motion";
+                 config.verify.min_probe_contradicted};
+    judged->refusal = "refused: degenerate geometry";
+    r.reason += from_a_pose
+                    ? "; not valid: the geometry is degenerate and no correspondence fixes the "
+                      "motion it leaves open"
+                    : "; refused: the geometry is degenerate and this source's correspondences "
+                      "are too weak to fix the open motion";
   }
   const double rho = r.verification.brightness_rank_correlation;
-  if (p.images_must_agree && r.valid && std::isfinite(rho) &&
+  if (images_must_agree && r.valid && std::isfinite(rho) &&
       rho < h.min_brightness_rank_correlation) {
     r.valid = false;
     r.refusal = {RefusalTest::kImagesDisagree, rho, h.min_brightness_rank_correlation};
-    out.refusal = "refused: the images disagree where the depth agrees";
+    judged->refusal = "refused: the images disagree where the depth agrees";
     char note[200];
     std::snprintf(note, sizeof(note),
                   "; refused: the images disagree where the depth agrees (rank correlation of "
@@ -437,7 +476,6 @@ Judged Judge::Full(Proposal p, StageTimer* timer) const {
                   rho, h.min_brightness_rank_correlation);
     r.reason += note;
   }
-  return out;
 }
 
 void Adopt(RegistrationResult winner, RegistrationResult* result) {

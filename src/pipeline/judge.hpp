@@ -92,6 +92,34 @@ class Judge {
   const std::optional<MotionPrior>& prior_;
 };
 
+// The judge's rules on the fields of candidates, without scans (Judge's methods measure, these
+// decide; tests/pipeline/judge_rules_test.cpp runs them on stand-in candidates).
+
+// The check's verdict `v` folded into a candidate the count test judged (Judge::Check after the
+// rendering): recorded as candidate `name`; with count evidence, valid = the check passed and the
+// refusal is the check's; without, the count test's reason stands.
+void FoldCheck(const VerificationResult& v, const VerifyConfig& config, const std::string& name,
+               RegistrationResult* r);
+
+// What becomes of ICP's refinement of `estimate` (Judge::Refine after ICP and the check of its
+// pose): `kept` of the estimate's inliers stay within ICP's coarse gate under `refined`'s pose.
+struct Refinement {
+  enum Verdict { kKept, kLeftItsEvidence, kScoresLower } kept = kKept;
+  double gate_m = 0;       // the gate `kept` was counted within
+  double kept_needed = 0;  // how many had to stay
+  // With kLeftItsEvidence: an extra source's accepted estimate whose refinement is another pose
+  // the check accepts, farther than ICP's widest gate (apart_m): the estimate is not valid.
+  bool another_pose_passes = false;
+  double apart_m = 0;
+};
+Refinement JudgeRefinement(const RegistrationResult& estimate, const RegistrationResult& refined,
+                           int kept, const PipelineConfig& config, KeptEvidence rule);
+
+// A source's own refusals of a valid candidate (Proposal::refuse_degenerate, images_must_agree):
+// degenerate geometry, or images whose brightness disagrees where the depth agrees.
+void RefuseForTheSource(bool refuse_degenerate, bool images_must_agree, bool from_a_pose,
+                        const PipelineConfig& config, Judged* judged);
+
 // How far T is from the prior (rotation angle, deg; translation, m), and whether that is beyond
 // its tolerance.
 struct PriorDistance {

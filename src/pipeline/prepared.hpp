@@ -35,7 +35,11 @@ struct PreparedScan::Data {
   // pair (ExtractTurnedFeatures).
   mutable std::once_flag turned_once;
   mutable TurnedFeatures turned;
-  // What `turned` holds once made (MemoryBytes includes it from then on; 0 before).
+  // verify.mirror_min_matches: the features of the mirrored colour images, made the first time
+  // a valid result with this scan as its source needs the mirror test (RefuseMirrorImage).
+  mutable std::once_flag mirrored_once;
+  mutable std::vector<LiftedFeatures> mirrored;
+  // What `turned` and `mirrored` hold once made (MemoryBytes includes it from then on; 0 before).
   mutable std::atomic<std::size_t> turned_bytes{0};
 };
 

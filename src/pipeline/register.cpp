@@ -23,6 +23,7 @@
 #include "object_match/result_support.hpp"
 #include "parallel/run_both.hpp"
 #include "pipeline/arbiter.hpp"
+#include "pipeline/handedness.hpp"
 #include "pipeline/image_source.hpp"
 #include "pipeline/input_checks.hpp"
 #include "pipeline/judge.hpp"
@@ -316,6 +317,7 @@ RegistrationResult Pipeline::Impl::RegisterPrepared(
   Arbiter arbiter([&judge](Proposal p, StageTimer* t) { return judge.Full(std::move(p), t); }, pair,
                   timer);
   RegistrationResult result = arbiter.Decide(std::move(method), scans);
+  RefuseMirrorImage(source, target, extractor.get(), config.verify, &result);
   if (config.object_match.agree_with_result && result.valid) {
     KeepObjectMatchesThatMoveWith(result.T_target_source, found.object_match_points,
                                   config.ransac.inlier_threshold_m, &result);
