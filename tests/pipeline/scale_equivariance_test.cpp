@@ -84,8 +84,9 @@ TEST(ScaleEquivariance, StructuredLightCopiesAreTheSameProblem) {
     EXPECT_EQ(r.valid, original.valid);
     EXPECT_EQ(r.path, original.path) << r.reason << "\n" << original.reason;
     EXPECT_EQ(r.num_inliers, original.num_inliers);
-    EXPECT_TRUE(r.T_target_source.topLeftCorner<3, 3>() ==
-                original.T_target_source.topLeftCorner<3, 3>());
+    const Eigen::Matrix3d R = r.T_target_source.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d R0 = original.T_target_source.topLeftCorner<3, 3>();
+    EXPECT_TRUE(R == R0) << R;
     for (int i = 0; i < 3; ++i) {
       EXPECT_DOUBLE_EQ(r.T_target_source(i, 3), s * original.T_target_source(i, 3));
     }
