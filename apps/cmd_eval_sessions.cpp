@@ -30,15 +30,11 @@ struct SessionsOptions {
   std::string sessions = "../shared/sessions/sessions.tsv", data = "../shared/data";
   std::vector<std::string> scenes, modes = {"unaligned", "drift"};
   std::string seeds = "0-2";
-  // zeroreg: MergeRecordings; open3d-multiway: Open3D's multiway registration recipe on the same
-  // keyframes (src/recordings/open3d_baseline.hpp), the baseline.
+  // zeroreg: MergeRecordings; sift-ransac: MergeRecordings with the SIFT + RANSAC pair baseline
+  // as its registrar; open3d-multiway: Open3D's multiway registration recipe on fragments of the
+  // recordings (src/recordings/open3d_baseline.hpp). The last two are the baselines.
   std::string method = "zeroreg";
   RecordingsOptions recordings;
-};
-
-struct Split {
-  std::string scene;
-  int a_first = 0, a_last = 0, b_first = 0, b_last = 0;
 };
 
 std::pair<int, int> Range(const std::string& text, const std::string& where) {
@@ -51,31 +47,8 @@ std::pair<int, int> Range(const std::string& text, const std::string& where) {
   return {first, last};
 }
 
-std::vector<Split> ReadSplits(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot read the sessions list (scene<TAB>A<TAB>B)");
-  std::vector<Split> out;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line[0] == '#' || line.rfind("scene", 0) == 0) continue;
-    std::istringstream fields(line);
-    std::string scene, a, b;
-    if (!std::getline(fields, scene, '\t') || !std::getline(fields, a, '\t') ||
-        !std::getline(fields, b, '\t')) {
-      throw InputError(path + ":" + std::to_string(number) + ": expected scene<TAB>A<TAB>B");
-    }
-    Split s{scene};
-    std::tie(s.a_first, s.a_last) = Range(a, path + ":" + std::to_string(number));
-    std::tie(s.b_first, s.b_last) = Range(b, path + ":" + std::to_string(number));
-    out.push_back(s);
-  }
-  return out;
-}
-
 // One split, mode and seed: the merge and its errors.
-json RunOne(const SessionsOptions& o, const Split& split, const std::string& mode, int seed,
+json RunOne(const SessionsOptions& o, const SessionSplit& split, const std::string& mode, int seed,
             const std::string& dir) {
   const std::string root = o.data + "/" + split.scene;
   RecordingInput a = ParseRecordingSpec(root + "@" + std::to_string(split.a_first) + "-" +
@@ -94,8 +67,12 @@ json RunOne(const SessionsOptions& o, const Split& split, const std::string& mod
   b.T_frame_camera = Moved(T_Bframe_world, given_b_world);
   RecordingsConfig config = ConfigFromOptions(o.recordings);
   config.out_dir = dir;
-  // Pair registrations do not depend on the poses: shared by every seed and mode of the split.
-  config.pair_cache_file = fs::path(dir).parent_path().string() + "/pairs-cache.jsonl";
+  // Pair registrations do not depend on the poses: shared by every seed and mode of the split
+  // (one file per registrar).
+  if (o.method == "sift-ransac") config.registrar = "sift-ransac";
+  config.pair_cache_file =
+      fs::path(dir).parent_path().string() +
+      (o.method == "zeroreg" ? "/pairs-cache.jsonl" : "/pairs-cache-" + o.method + ".jsonl");
   const RecordingsResult r = o.method == "open3d-multiway" ? MergeWithOpen3dMultiway(a, b, config)
                                                            : MergeRecordings(a, b, config);
 
@@ -195,8 +172,8 @@ int RunSessions(const SessionsOptions& o) {
       throw InputError("--modes " + mode + ": expected unaligned and/or drift");
     }
   }
-  std::vector<Split> splits;
-  for (const Split& s : ReadSplits(o.sessions)) {
+  std::vector<SessionSplit> splits;
+  for (const SessionSplit& s : ReadSessionSplits(o.sessions)) {
     if (o.scenes.empty() ||
         std::find(o.scenes.begin(), o.scenes.end(), s.scene) != o.scenes.end()) {
       splits.push_back(s);
@@ -205,7 +182,7 @@ int RunSessions(const SessionsOptions& o) {
   if (splits.empty()) throw InputError("--scene: none of the given scenes is in " + o.sessions);
   fs::create_directories(o.recordings.out);
   std::vector<json> rows;
-  for (const Split& split : splits) {
+  for (const SessionSplit& split : splits) {
     for (const std::string& mode : o.modes) {
       for (int seed = seeds.first; seed <= seeds.second; ++seed) {
         const std::string dir =
@@ -215,10 +192,16 @@ int RunSessions(const SessionsOptions& o) {
         if (fs::exists(eval_path)) {
           std::ifstream in(eval_path);
           in >> row;
+          if (row.value("method", std::string("zeroreg")) != o.method) {
+            throw InputError(eval_path + ": measured with --method " +
+                             row.value("method", std::string("zeroreg")) + ", not " + o.method +
+                             "; choose another --out");
+          }
         } else {
           std::fprintf(stderr, "zeroreg eval sessions: %s %s seed %d\n", split.scene.c_str(),
                        mode.c_str(), seed);
           row = RunOne(o, split, mode, seed, dir);
+          fs::create_directories(dir);  // the Open3D baseline writes nothing there itself
           std::ofstream out(eval_path);
           out << row.dump(2) << "\n";
         }
@@ -275,9 +258,10 @@ CLI::App* AddEvalSessionsCommand(CLI::App& eval, Runner* run) {
       ->capture_default_str();
   app->add_option("--seeds", o->seeds, "seeds FIRST-LAST")->capture_default_str();
   app->add_option("--method", o->method,
-                  "zeroreg, or open3d-multiway (Open3D's multiway registration recipe on the same "
-                  "keyframes: FPFH + RANSAC + ICP between every keyframe pair, its pose graph)")
-      ->check(CLI::IsMember({"zeroreg", "open3d-multiway"}))
+                  "zeroreg; sift-ransac (the same merge, SIFT + RANSAC as the pair registrar); "
+                  "open3d-multiway (Open3D's reconstruction-system recipe: fragments of 100 "
+                  "frames, FPFH + RANSAC + ICP between every fragment pair, its pose graph)")
+      ->check(CLI::IsMember({"zeroreg", "sift-ransac", "open3d-multiway"}))
       ->capture_default_str();
   AddRecordingsOptions(*app, &o->recordings);
   *run = [o]() { return RunSessions(*o); };

@@ -7,6 +7,7 @@
 #include "commands.hpp"
 #include "config_options.hpp"
 #include "recording_options.hpp"
+#include "recordings/edge_files.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/recordings.hpp"
 
@@ -45,6 +46,17 @@ void AddRecordingsOptions(CLI::App& app, RecordingsOptions* o) {
   AddConfigOptions(app, &o->pipeline);
 }
 
+void AddShardOptions(CLI::App& app, RecordingsOptions* o) {
+  app.add_option("--shard", o->shard,
+                 "verify only shard I of N of the candidate pairs (I/N, 1 <= I <= N) into "
+                 "OUT/edges-I-of-N.jsonl and stop; the last step reads every shard's file with "
+                 "--edges (docs/RECORDINGS.md, \"Sharded verification\")");
+  app.add_option("--edges", o->edges,
+                 "the edge files of every shard (OUT/edges-*-of-N.jsonl of the --shard runs, "
+                 "same recordings and options): read instead of verifying, then the loop "
+                 "closures are decided and optimised and every output written");
+}
+
 RecordingInput RecordingFromOptions(const std::string& spec, const std::string& poses,
                                     const std::string& option) {
   RecordingInput r = ParseRecordingSpec(spec);
@@ -67,6 +79,10 @@ RecordingsConfig ConfigFromOptions(const RecordingsOptions& o) {
   config.progress = !o.quiet;
   config.write_cloud = !o.no_cloud;
   config.prepared_budget_bytes = static_cast<std::size_t>(o.cache_mib) << 20;
+  if (!o.shard.empty()) {
+    ParseShardSpec(o.shard, "--shard", &config.shard_index, &config.shard_count);
+  }
+  config.edge_files = o.edges;
   return config;
 }
 
@@ -95,11 +111,14 @@ Runner AddMergeCommand(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--poses-b", *poses_b, "B's poses, as --poses-a")->capture_default_str();
   AddRecordingsOptions(app, o.get());
+  AddShardOptions(app, o.get());
   return [=]() {
     const RecordingInput ra = RecordingFromOptions(*a, *poses_a, "--poses-a");
     const RecordingInput rb = RecordingFromOptions(*b, *poses_b, "--poses-b");
-    const RecordingsResult r = MergeRecordings(ra, rb, ConfigFromOptions(*o));
+    const RecordingsConfig config = ConfigFromOptions(*o);
+    const RecordingsResult r = MergeRecordings(ra, rb, config);
     PrintStages(r);
+    if (config.shard_count > 0) return kExitOk;  // the reason says what the shard wrote
     if (!r.found) {
       std::cerr << "zeroreg merge: " << r.reason << "\n";
       return kExitRegistrationFailed;
@@ -128,10 +147,13 @@ Runner AddLoopsCommand(CLI::App& app) {
       ->capture_default_str()
       ->check(AtLeast(1, true));
   AddRecordingsOptions(app, o.get());
+  AddShardOptions(app, o.get());
   return [=]() {
     const RecordingInput input = RecordingFromOptions(*seq, *odometry, "--odometry");
-    const RecordingsResult r = CloseLoops(input, ConfigFromOptions(*o));
+    const RecordingsConfig config = ConfigFromOptions(*o);
+    const RecordingsResult r = CloseLoops(input, config);
     PrintStages(r);
+    if (config.shard_count > 0) return kExitOk;
     int accepted = 0;
     for (const LoopCandidateResult& c : r.candidates) accepted += c.verdict == "accepted";
     std::printf("%d loop closures accepted of %zu candidates; trajectory: %s/trajectory.tum\n",

@@ -3,6 +3,7 @@
 
 #include <CLI/CLI.hpp>
 #include <string>
+#include <vector>
 
 #include "config_options.hpp"
 #include "zeroreg/recordings.hpp"
@@ -15,9 +16,13 @@ struct RecordingsOptions {
   int cache_mib = 384;
   bool no_cloud = false, quiet = false;
   ConfigOptions pipeline;
+  std::string shard;               // --shard I/N
+  std::vector<std::string> edges;  // --edges FILE...
 };
 
 void AddRecordingsOptions(CLI::App& app, RecordingsOptions* options);
+// --shard and --edges (merge and loops).
+void AddShardOptions(CLI::App& app, RecordingsOptions* options);
 RecordingsConfig ConfigFromOptions(const RecordingsOptions& options);
 // A recording from its specification (DIR or DIR@FIRST-LAST) and its poses: "auto", "gt", "none"
 // or a TUM trajectory file; `option` names the poses' option in messages.

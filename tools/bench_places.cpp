@@ -30,6 +30,7 @@
 #include <tuple>
 #include <vector>
 
+#include "eval/sessions_protocol.hpp"
 #include "features/feature_extractor.hpp"
 #include "recordings/keyframes.hpp"
 #include "recordings/place_recognition.hpp"
@@ -48,46 +49,6 @@ struct Keyframe {
   Transform T_world_camera = Transform::Identity();
   Eigen::MatrixXf descriptors;
 };
-
-struct Session {
-  std::string scene;
-  int a_first = 0, a_last = 0, b_first = 0, b_last = 0;
-};
-
-std::pair<int, int> ParseRange(const std::string& text, const std::string& where) {
-  int first = 0, last = 0;
-  char dash = 0;
-  std::istringstream in(text);
-  if (!(in >> first >> dash >> last) || dash != '-' || last < first) {
-    throw InputError(where + ": '" + text + "': expected a frame range FIRST-LAST");
-  }
-  return {first, last};
-}
-
-std::vector<Session> ReadSessions(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot read the sessions list");
-  std::vector<Session> sessions;
-  std::string line;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty() || line.rfind("scene", 0) == 0 || line[0] == '#') continue;
-    std::istringstream fields(line);
-    std::string scene, a, b;
-    if (!std::getline(fields, scene, '\t') || !std::getline(fields, a, '\t') ||
-        !std::getline(fields, b, '\t')) {
-      throw InputError(path + ":" + std::to_string(number) + ": expected scene<TAB>A<TAB>B");
-    }
-    Session s;
-    s.scene = scene;
-    std::tie(s.a_first, s.a_last) = ParseRange(a, path + ":" + std::to_string(number));
-    std::tie(s.b_first, s.b_last) = ParseRange(b, path + ":" + std::to_string(number));
-    sessions.push_back(s);
-  }
-  if (sessions.empty()) throw InputError(path + ": no sessions listed");
-  return sessions;
-}
 
 // Descriptors of the keypoints that have valid depth (what Prepare lifts and matches).
 Eigen::MatrixXf DescriptorsWithDepth(const ImageFeatures& f, const View& view) {
@@ -200,7 +161,7 @@ int Run(int argc, char** argv) {
   int all_queries = 0;
   double all_hits[3] = {0, 0, 0};
   bool found = false;
-  for (const Session& s : ReadSessions(sessions_file)) {
+  for (const SessionSplit& s : ReadSessionSplits(sessions_file)) {
     if (!only.empty() && s.scene != only) continue;
     found = true;
     const auto dataset = OpenDataset(data + "/" + s.scene);

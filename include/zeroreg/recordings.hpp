@@ -56,6 +56,11 @@ struct RecordingsConfig {
   // of the same one at least `min_separation` keyframes away (loops).
   int candidates_per_keyframe = 5;
   int min_separation = 10;
+  // The pair registrar of verification and of the chain of a recording without poses: "zeroreg"
+  // (Pipeline::Register from prepared keyframes, its verdict) or "sift-ransac" (the SIFT + RANSAC
+  // pair baseline of `zeroreg eval --method sift`, its count verdict: a baseline). Keyframes and
+  // place recognition are the same for both.
+  std::string registrar = "zeroreg";
   // Fewer mutually consistent loop closures than this: nothing is accepted (one registration alone
   // cannot be checked against anything).
   int min_consistent_loops = 2;
@@ -99,6 +104,15 @@ struct RecordingsConfig {
   // Optional: a file of pair registrations shared by runs over the same recordings and settings
   // whatever their poses (`zeroreg eval sessions` across seeds): read like loops.jsonl, appended.
   std::string pair_cache_file;
+  // Sharded verification (docs/RECORDINGS.md "Sharded verification"). shard_count > 0: verify
+  // only shard `shard_index` (1..shard_count) of the candidate pairs into
+  // out_dir/edges-I-of-N.jsonl (resumed when it is there) and stop; nothing else is written.
+  // edge_files: the edge files of every shard of such a run, read instead of verifying (and
+  // instead of place recognition: the candidates come from the files); the run then decides,
+  // optimises and writes what an unsharded run writes.
+  int shard_index = 0;
+  int shard_count = 0;
+  std::vector<std::string> edge_files;
   bool write_cloud = true;
   bool write_report = true;
 };
@@ -151,8 +165,9 @@ struct RecordingsResult {
 nlohmann::json RecordingsResultToJson(const RecordingsResult& result);
 // Sets the RecordingsConfig fields named by the keys of `options` (keyframe_covisibility,
 // keyframe_every, vocabulary_words, vocabulary_seed, candidates_per_keyframe, min_separation,
-// min_consistent_loops, prepared_budget_mib, cloud_voxel_m, progress, write_cloud,
-// write_report). Throws InputError naming `where` and the key for an unknown key or a wrong type.
+// registrar, min_consistent_loops, prepared_budget_mib, cloud_voxel_m, progress, write_cloud,
+// write_report, shard ("I/N"), edges (a list of files)). Throws InputError naming `where` and the
+// key for an unknown key or a wrong type.
 void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& where,
                             RecordingsConfig* config);
 

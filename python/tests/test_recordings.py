@@ -74,3 +74,9 @@ def test_bad_arguments_are_named():
         zeroreg.merge(A, B, poses_b={"600": np.eye(4)})
     with pytest.raises(ValueError, match="missing.tum"):
         zeroreg.close_loops(A, odometry="missing.tum")
+    with pytest.raises(ValueError, match="options.shard 3/2: expected I/N"):
+        zeroreg.merge(A, B, shard="3/2")
+    with pytest.raises(ValueError, match="missing.jsonl: cannot read"):
+        zeroreg.merge(A, B, edges=["missing.jsonl"], progress=False)
+    with pytest.raises(ValueError, match="registrar 'orb'"):
+        zeroreg.merge(A, B, registrar="orb", progress=False)

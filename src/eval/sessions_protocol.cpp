@@ -4,10 +4,56 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <random>
+#include <sstream>
+#include <tuple>
+#include <utility>
+
+#include "zeroreg/error.hpp"
 
 namespace zeroreg {
+namespace {
+
+std::pair<int, int> FrameRange(const std::string& text, const std::string& where) {
+  int first = 0, last = 0;
+  char dash = 0;
+  std::string rest;
+  std::istringstream in(text);
+  if (!(in >> first >> dash >> last) || dash != '-' || first < 0 || last < first || (in >> rest)) {
+    throw InputError(where + ": '" + text + "': expected a frame range FIRST-LAST");
+  }
+  return {first, last};
+}
+
+}  // namespace
+
+std::vector<SessionSplit> ReadSessionSplits(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read the sessions list (scene<TAB>A<TAB>B)");
+  std::vector<SessionSplit> splits;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty() || line[0] == '#' || line.rfind("scene", 0) == 0) continue;
+    const std::string where = path + ":" + std::to_string(number);
+    std::istringstream fields(line);
+    std::string a, b;
+    SessionSplit s;
+    if (!std::getline(fields, s.scene, '\t') || !std::getline(fields, a, '\t') ||
+        !std::getline(fields, b, '\t') || s.scene.empty()) {
+      throw InputError(where + ": expected scene<TAB>A<TAB>B");
+    }
+    std::tie(s.a_first, s.a_last) = FrameRange(a, where);
+    std::tie(s.b_first, s.b_last) = FrameRange(b, where);
+    splits.push_back(s);
+  }
+  if (splits.empty()) throw InputError(path + ": no split listed (scene<TAB>A<TAB>B)");
+  return splits;
+}
 
 Transform SeededUnalignment(std::uint64_t seed, double max_translation_m) {
   std::mt19937_64 rng(seed * 2654435761u + 1);

@@ -1,15 +1,28 @@
 // The protocol of ../shared/sessions/README.md: recording B's poses given in a frame of its own
 // (a seeded rigid "unalignment"), odometry drifted from the ground truth (seeded), and the errors
-// of a merge against the truth. Eigen only.
+// of a merge against the truth, and the file that lists the splits (sessions.tsv). Eigen only.
 #pragma once
 
 #include <cstdint>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
+
+// One line of sessions.tsv: a scene of the data folder split into recordings A and B, inclusive
+// ranges of the scene's frame ids.
+struct SessionSplit {
+  std::string scene;
+  int a_first = 0, a_last = 0, b_first = 0, b_last = 0;
+};
+
+// Reads "scene<TAB>A<TAB>B" lines, A and B as FIRST-LAST; empty lines, '#' lines and the header
+// line (starting with "scene") are skipped. Throws InputError naming the file (and line) when it
+// cannot be read, a line is malformed, or it lists no split.
+std::vector<SessionSplit> ReadSessionSplits(const std::string& path);
 
 // T_Bframe_world: a uniform random rotation and a translation of uniform direction and length up
 // to `max_translation_m`. Deterministic for a seed on every platform (raw bits of mt19937_64, no

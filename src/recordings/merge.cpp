@@ -15,9 +15,11 @@
 #include <thread>
 
 #include "estimate/rigid_inverse.hpp"
+#include "eval/methods.hpp"
 #include "eval/metrics.hpp"
 #include "eval/prepared_cache.hpp"
 #include "pipeline/prepared.hpp"
+#include "recordings/edge_files.hpp"
 #include "recordings/keyframes.hpp"
 #include "recordings/loop_consistency.hpp"
 #include "recordings/place_recognition.hpp"
@@ -50,12 +52,6 @@ struct Keyframe {
   ColoredCloud cloud;  // camera frame, thinned
 };
 
-// The loops.jsonl key of a candidate: both ends' recording and frame.
-std::string PairKey(int ru, int fu, int rv, int fv) {
-  return std::to_string(ru) + ":" + std::to_string(fu) + "-" + std::to_string(rv) + ":" +
-         std::to_string(fv);
-}
-
 class Runner {
  public:
   Runner(std::vector<RecordingInput> inputs, const RecordingsConfig& config)
@@ -75,9 +71,20 @@ class Runner {
     return std::to_string(k.recording) + "@" + std::to_string(k.frame);
   }
   PreparedScan Prepared(const Keyframe& k);
+  // `source` registered onto `target` by the configured registrar.
+  struct PairRegistration {
+    bool valid = false;
+    std::string reason, path;
+    Transform T_target_source = Transform::Identity();
+    int inliers = 0;
+    double overlap = 0.0;  // the verification's (zeroreg); 0 for the baseline
+  };
+  PairRegistration RegisterPair(const Keyframe& source, const Keyframe& target);
   void SelectKeyframes(int recording);
   void ChainWithoutPoses(int recording);
   void FindCandidates();
+  void CandidatesFromEdgeFiles();
+  void StartShard();
   void Verify();
   void Decide();
   void Optimize();
@@ -95,6 +102,8 @@ class Runner {
   std::vector<std::vector<int>> nodes_of_;  // per recording, keyframe indices in order
   std::vector<bool> has_poses_;
   std::map<std::string, json> resumed_;  // loops.jsonl records read back
+  EdgeFileSet edges_;                    // config_.edge_files, read
+  std::vector<bool> in_shard_;           // per candidate: to verify here (all without shards)
   RecordingsResult result_;
   std::vector<int> accepted_;
   Transform T_A_B_initial_ = Transform::Identity();
@@ -105,6 +114,19 @@ PreparedScan Runner::Prepared(const Keyframe& k) {
   return cache_->Get(CacheKey(k), [&]() {
     return pipeline_->Prepare(ScanFromView(datasets_[k.recording]->LoadFrame(k.frame)));
   });
+}
+
+Runner::PairRegistration Runner::RegisterPair(const Keyframe& source, const Keyframe& target) {
+  if (config_.registrar == "zeroreg") {
+    const RegistrationResult r = pipeline_->Register(Prepared(source), Prepared(target));
+    return {r.valid,           r.reason,      PathName(r.path),
+            r.T_target_source, r.num_inliers, r.verification.overlap};
+  }
+  const auto scan = [&](const Keyframe& k) {
+    return ScanFromView(datasets_[k.recording]->LoadFrame(k.frame));
+  };
+  const MethodOutput out = RunFeatureBaseline(FeatureBaselineConfig(), scan(source), scan(target));
+  return {out.valid, out.reason, out.path, out.T_target_source, out.num_inliers, 0.0};
 }
 
 json Runner::Settings() const {
@@ -127,7 +149,8 @@ json Runner::Settings() const {
           {"vocabulary_words", c.vocabulary_words},
           {"vocabulary_seed", c.vocabulary_seed},
           {"candidates_per_keyframe", c.candidates_per_keyframe},
-          {"min_separation", c.min_separation}};
+          {"min_separation", c.min_separation},
+          {"registrar", c.registrar}};
 }
 
 void ReadRecords(const std::string& path, std::map<std::string, json>* records) {
@@ -146,8 +169,13 @@ void ReadRecords(const std::string& path, std::map<std::string, json>* records) 
 
 void Runner::PrepareOutDir() {
   if (!config_.pair_cache_file.empty()) ReadRecords(config_.pair_cache_file, &resumed_);
+  // Before anything slow: edge files that cannot be used are refused at once.
+  if (!config_.edge_files.empty()) {
+    edges_ = ReadEdgeFiles(config_.edge_files, Command(), Settings(), "--edges");
+  }
   if (config_.out_dir.empty()) return;
   fs::create_directories(config_.out_dir);
+  if (config_.shard_count > 0) return;  // a shard writes its edge file only (StartShard)
   const std::string settings_path = config_.out_dir + "/settings.json";
   const json settings = Settings();
   if (fs::exists(settings_path)) {
@@ -221,12 +249,14 @@ void Runner::SelectKeyframes(int recording) {
           p.path_m + (k.T_before.topRightCorner<3, 1>() - p.T_before.topRightCorner<3, 1>()).norm();
     }
     const Scan scan = ScanFromView(std::move(view));
-    const PreparedScan prepared =
-        cache_->Get(CacheKey(k), [&]() { return pipeline_->Prepare(scan); });
-    const PreparedScan::Data* data = PreparedScanData(prepared);
-    const LiftedFeatures& features = data->perceived->view_features.at(0);
-    k.descriptors = features.features.descriptors;
-    if (config_.write_cloud && !config_.out_dir.empty()) {
+    if (config_.edge_files.empty()) {  // with edge files place recognition does not run
+      const PreparedScan prepared =
+          cache_->Get(CacheKey(k), [&]() { return pipeline_->Prepare(scan); });
+      const PreparedScan::Data* data = PreparedScanData(prepared);
+      const LiftedFeatures& features = data->perceived->view_features.at(0);
+      k.descriptors = features.features.descriptors;
+    }
+    if (config_.write_cloud && !config_.out_dir.empty() && config_.shard_count == 0) {
       k.cloud = ScanGeometry(scan, Eigen::Vector3d(0.5, 0.5, 0.5), cloud);
     }
     nodes_of_[recording].push_back(static_cast<int>(keyframes_.size()));
@@ -256,7 +286,7 @@ void Runner::ChainWithoutPoses(int recording) {
   for (std::size_t i = 1; i < nodes.size(); ++i) {
     Keyframe& previous = keyframes_[nodes[i - 1]];
     Keyframe& current = keyframes_[nodes[i]];
-    const RegistrationResult r = pipeline_->Register(Prepared(current), Prepared(previous));
+    const PairRegistration r = RegisterPair(current, previous);
     if (!r.valid) {
       Log(Name(recording) + " has no poses, and keyframes at frames " +
           std::to_string(previous.frame) + " and " + std::to_string(current.frame) +
@@ -312,13 +342,59 @@ void Runner::FindCandidates() {
       std::to_string(keyframes_.size()) + " keyframes");
 }
 
+void Runner::CandidatesFromEdgeFiles() {
+  std::vector<std::pair<int, int>> keyframes;
+  for (const Keyframe& k : keyframes_) keyframes.emplace_back(k.recording, k.frame);
+  if (keyframes != edges_.keyframes) {
+    throw InputError("--edges: the edge files were made from other keyframes (" +
+                     std::to_string(edges_.keyframes.size()) + ") than this run's (" +
+                     std::to_string(keyframes.size()) +
+                     "): give this step the poses the shards ran with");
+  }
+  result_.candidates = edges_.candidates;
+  for (const auto& [key, record] : edges_.records) resumed_[key] = record;
+  Log("edges: " + std::to_string(edges_.records.size()) + " verified candidate pairs read from " +
+      std::to_string(config_.edge_files.size()) + " edge files");
+}
+
+// A shard: its candidates, and its edge file started (header) or read back to resume it.
+void Runner::StartShard() {
+  in_shard_.assign(result_.candidates.size(), false);
+  const std::vector<std::size_t> mine =
+      ShardCandidates(result_.candidates, config_.shard_index, config_.shard_count);
+  for (std::size_t i : mine) in_shard_[i] = true;
+  std::vector<std::pair<int, int>> keyframes;
+  for (const Keyframe& k : keyframes_) keyframes.emplace_back(k.recording, k.frame);
+  const json header = EdgeFileHeader(Command(), Settings(), keyframes, result_.candidates,
+                                     config_.shard_index, config_.shard_count);
+  const std::string path =
+      config_.out_dir + "/" + EdgeFileName(config_.shard_index, config_.shard_count);
+  if (fs::exists(path)) {
+    resumed_ = ReadEdgeFileForResume(path, header);
+    Log("resuming " + path + ": " + std::to_string(resumed_.size()) + " verified pairs read back");
+  } else {
+    std::ofstream out(path);
+    out << header.dump() << "\n";
+    if (!out) throw InputError(path + ": cannot write the edge file");
+  }
+  Log("shard " + std::to_string(config_.shard_index) + "/" + std::to_string(config_.shard_count) +
+      ": " + std::to_string(mine.size()) + " of " + std::to_string(result_.candidates.size()) +
+      " candidate pairs");
+}
+
 void Runner::Verify() {
   std::vector<LoopCandidateResult>& candidates = result_.candidates;
   std::ofstream loops, shared;
-  if (!config_.out_dir.empty()) loops.open(config_.out_dir + "/loops.jsonl", std::ios::app);
+  const bool shard = config_.shard_count > 0;
+  if (!config_.out_dir.empty()) {
+    loops.open(config_.out_dir + "/" +
+                   (shard ? EdgeFileName(config_.shard_index, config_.shard_count) : "loops.jsonl"),
+               std::ios::app);
+  }
   if (!config_.pair_cache_file.empty()) shared.open(config_.pair_cache_file, std::ios::app);
   std::vector<std::size_t> todo;
   for (std::size_t i = 0; i < candidates.size(); ++i) {
+    if (shard && !in_shard_[i]) continue;
     LoopCandidateResult& c = candidates[i];
     const Keyframe& u = keyframes_[c.u];
     const Keyframe& v = keyframes_[c.v];
@@ -353,13 +429,13 @@ void Runner::Verify() {
       LoopCandidateResult& c = candidates[todo[n]];
       const Keyframe& u = keyframes_[c.u];
       const Keyframe& v = keyframes_[c.v];
-      const RegistrationResult r = pipeline_->Register(Prepared(v), Prepared(u));
+      const PairRegistration r = RegisterPair(v, u);
       c.valid = r.valid;
       c.reason = r.reason;
-      c.path = PathName(r.path);
+      c.path = r.path;
       c.T_u_v = r.T_target_source;
-      c.inliers = r.num_inliers;
-      c.overlap = r.verification.overlap;
+      c.inliers = r.inliers;
+      c.overlap = r.overlap;
       const json record = {{"key", PairKey(u.recording, u.frame, v.recording, v.frame)},
                            {"valid", c.valid},
                            {"reason", c.reason},
@@ -685,6 +761,24 @@ RecordingsResult Runner::Run() {
         "recordings config: candidates_per_keyframe, min_separation, min_consistent_loops, "
         "cloud_voxel_m and the loop and odometry sigmas must be positive");
   }
+  if (config_.shard_count > 0 || config_.shard_index != 0) {
+    if (config_.shard_index < 1 || config_.shard_index > config_.shard_count) {
+      throw InputError("--shard " + std::to_string(config_.shard_index) + "/" +
+                       std::to_string(config_.shard_count) +
+                       ": expected I/N, shard I of N with 1 <= I <= N");
+    }
+    if (!config_.edge_files.empty()) {
+      throw InputError(
+          "--shard and --edges: a run either verifies one shard (--shard) or reads "
+          "every shard's edge file (--edges), not both");
+    }
+    if (config_.out_dir.empty())
+      throw InputError("--shard: needs an output folder for its edge file");
+  }
+  if (config_.registrar != "zeroreg" && config_.registrar != "sift-ransac") {
+    throw InputError("recordings config: registrar '" + config_.registrar +
+                     "': expected zeroreg or sift-ransac");
+  }
   PrepareOutDir();
   has_poses_.assign(inputs_.size(), false);
   nodes_of_.assign(inputs_.size(), {});
@@ -710,11 +804,28 @@ RecordingsResult Runner::Run() {
   }
   {
     StageClock clock("place_recognition", &result_.stages);
-    FindCandidates();
+    if (config_.edge_files.empty()) {
+      FindCandidates();
+    } else {
+      CandidatesFromEdgeFiles();
+    }
+    if (config_.shard_count > 0) StartShard();
   }
   {
     StageClock clock("verification", &result_.stages);
     Verify();
+  }
+  if (config_.shard_count > 0) {
+    std::size_t mine = 0;
+    for (bool b : in_shard_) mine += b;
+    result_.reason = "shard " + std::to_string(config_.shard_index) + "/" +
+                     std::to_string(config_.shard_count) + ": " + std::to_string(mine) + " of " +
+                     std::to_string(result_.candidates.size()) + " candidate pairs verified into " +
+                     config_.out_dir + "/" +
+                     EdgeFileName(config_.shard_index, config_.shard_count) +
+                     "; the last step reads every shard's file (--edges)";
+    Log(result_.reason);
+    return result_;
   }
   {
     StageClock clock("consistency", &result_.stages);
@@ -822,6 +933,19 @@ void ApplyRecordingsOptions(const nlohmann::json& options, const std::string& wh
       config->candidates_per_keyframe = static_cast<int>(integer());
     } else if (key == "min_separation") {
       config->min_separation = static_cast<int>(integer());
+    } else if (key == "shard") {
+      if (!value.is_string()) throw InputError(name + ": expected \"I/N\"");
+      ParseShardSpec(value.get<std::string>(), name, &config->shard_index, &config->shard_count);
+    } else if (key == "edges") {
+      if (!value.is_array()) throw InputError(name + ": expected a list of edge files");
+      config->edge_files.clear();
+      for (const json& file : value) {
+        if (!file.is_string()) throw InputError(name + ": expected a list of edge files");
+        config->edge_files.push_back(file.get<std::string>());
+      }
+    } else if (key == "registrar") {
+      if (!value.is_string()) throw InputError(name + ": expected \"zeroreg\" or \"sift-ransac\"");
+      config->registrar = value.get<std::string>();
     } else if (key == "min_consistent_loops") {
       config->min_consistent_loops = static_cast<int>(integer());
     } else if (key == "prepared_budget_mib") {

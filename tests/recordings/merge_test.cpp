@@ -7,9 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
+#include "recordings/open3d_baseline.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/error.hpp"
 #include "zeroreg/io.hpp"
@@ -155,6 +157,81 @@ TEST(MergeCliTest, BadRecordingsAreNamedWithExitTwo) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("missing.tum"), std::string::npos) << r.output;
   fs::remove_all(dir);
+}
+
+std::string FileText(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(static_cast<bool>(in)) << path;
+  return text.str();
+}
+
+// Two shards run at once (as GNU parallel or a job array runs them), then the last step reading
+// their edge files: the edges and every output of one unsharded run, byte for byte. Then the
+// shard arguments and edge files that cannot be used: exit 2, the argument named.
+TEST(MergeCliTest, TwoShardsGiveTheEdgesAndTheResultOfOneRun) {
+  const fs::path dir = testing::FreshTestDir("zeroreg_merge_shards_");
+  const std::string cli = "'" + testing::CliPath() + "' merge '" + testing::RedkitchenDir() + kA +
+                          "' '" + testing::RedkitchenDir() + kB + "' --quiet --no-cloud --out ";
+  const std::string one = (dir / "one").string(), sharded = (dir / "sharded").string();
+  testing::CommandResult r = testing::RunCommand(cli + "'" + one + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = testing::RunCommand(cli + "'" + sharded + "' --shard 1/2 & first=$!; " + cli + "'" + sharded +
+                          "' --shard 2/2 & second=$!; wait $first && wait $second");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(fs::path(sharded) / "T_A_B.txt"));  // a shard decides nothing
+  const std::string edges =
+      " --edges '" + sharded + "/edges-1-of-2.jsonl' '" + sharded + "/edges-2-of-2.jsonl'";
+  r = testing::RunCommand(cli + "'" + sharded + "'" + edges);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* file : {"loops.jsonl", "loops.log", "keyframes.tsv", "T_A_B.txt",
+                           "trajectory_A.tum", "trajectory_B.tum"}) {
+    EXPECT_EQ(FileText(fs::path(one) / file), FileText(fs::path(sharded) / file)) << file;
+  }
+  const nlohmann::json summary =
+      nlohmann::json::parse(std::ifstream((fs::path(sharded) / "summary.json").string()));
+  EXPECT_GT(summary.at("accepted").get<int>(), 1);
+
+  const std::string other = "'" + (dir / "other").string() + "'";
+  for (const std::string shard : {"0/2", "3/2", "2"}) {
+    r = testing::RunCommand(cli + other + " --shard " + shard);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("--shard " + shard + ": expected I/N"), std::string::npos) << r.output;
+  }
+  r = testing::RunCommand(cli + other + " --edges '" + sharded + "/edges-1-of-2.jsonl'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--edges: no edge file of shard 2/2"), std::string::npos) << r.output;
+  r = testing::RunCommand(cli + other + edges + " '" + sharded + "/missing.jsonl'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("missing.jsonl: cannot read"), std::string::npos) << r.output;
+  r = testing::RunCommand(cli + other + edges + " --candidates 3");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("made with other recordings or settings than this run "
+                          "(candidates_per_keyframe differ)"),
+            std::string::npos)
+      << r.output;
+  r = testing::RunCommand(cli + other + edges + " --shard 1/2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--shard and --edges"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+// The Open3D baseline on the short revisit: one fragment per recording (the recipe's 100 frames
+// hold each), B placed by their FPFH + RANSAC + ICP edge; the nodes are the fragments' first
+// frames.
+TEST_F(MergeTest, Open3dBaselineFragmentsPlaceTheShortRevisit) {
+  const RecordingsResult r = MergeWithOpen3dMultiway(a_, b_, config_);
+  ASSERT_TRUE(r.found) << r.reason;
+  ASSERT_EQ(r.keyframes.size(), 2u);
+  EXPECT_EQ(r.keyframes[0].frame, 460);
+  EXPECT_EQ(r.keyframes[1].frame, 600);
+  EXPECT_LE(RotationErrorDeg(r.T_A_B, TrueT_A_B()), 2.0);
+  EXPECT_LE(TranslationErrorM(r.T_A_B, TrueT_A_B()), 0.05);
+  EXPECT_EQ(r.trajectories[1].size(), truth_b_.size());  // every frame of B placed
+  RecordingInput no_poses = b_;
+  no_poses.T_frame_camera.clear();
+  EXPECT_THROW(MergeWithOpen3dMultiway(a_, no_poses, config_), InputError);
 }
 
 // `eval sessions` on a split file of the short revisit: the protocol's B unaligned by seed 0, the

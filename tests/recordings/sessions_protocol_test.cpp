@@ -3,8 +3,12 @@
 
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include "eval/metrics.hpp"
 #include "synthetic_trajectory.hpp"
+#include "test_paths.hpp"
+#include "zeroreg/error.hpp"
 
 namespace zeroreg {
 namespace {
@@ -58,6 +62,63 @@ TEST(SessionsProtocolTest, TrajectoryErrorIsTheRmsOfPositionsOverSharedFrames) {
   EXPECT_NEAR(AbsoluteTrajectoryError(estimate, truth), 0.1, 1e-12);
   EXPECT_TRUE(std::isnan(AbsoluteTrajectoryError({}, truth)));
   EXPECT_EQ(Moved(Transform::Identity(), truth), truth);
+}
+
+std::string WriteFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path.string();
+}
+
+// The message of the InputError ReadSessionSplits throws for `path` ("" when none).
+std::string ErrorOf(const std::string& path) {
+  try {
+    ReadSessionSplits(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SessionSplitsTest, ReadsTheSharedListAndSkipsHeaderAndComments) {
+  const auto dir = testing::FreshTestDir("zeroreg_sessions_");
+  const std::string path = WriteFile(dir / "s.tsv",
+                                     "scene\tA\tB\n# a comment\n\nroom\t0-499\t600-999\r\n"
+                                     "desk\t3-150\t175-378\n");
+  const std::vector<SessionSplit> splits = ReadSessionSplits(path);
+  ASSERT_EQ(splits.size(), 2u);
+  EXPECT_EQ(splits[0].scene, "room");
+  EXPECT_EQ(splits[0].a_first, 0);
+  EXPECT_EQ(splits[0].a_last, 499);
+  EXPECT_EQ(splits[0].b_first, 600);
+  EXPECT_EQ(splits[0].b_last, 999);
+  EXPECT_EQ(splits[1].scene, "desk");
+  EXPECT_EQ(splits[1].b_last, 378);
+  const std::string shared = testing::SharedDir() + "/sessions/sessions.tsv";
+  if (std::filesystem::exists(shared)) {
+    const std::vector<SessionSplit> three = ReadSessionSplits(shared);
+    ASSERT_EQ(three.size(), 3u);
+    EXPECT_EQ(three[2].scene, "tum-fr3-cabinet");
+    EXPECT_EQ(three[2].b_first, 34);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(SessionSplitsTest, BadFilesAreNamedWithTheLineAndWhatWasExpected) {
+  const auto dir = testing::FreshTestDir("zeroreg_sessions_");
+  const std::string missing = (dir / "none.tsv").string();
+  EXPECT_NE(ErrorOf(missing).find(missing + ": cannot read"), std::string::npos);
+  const std::string empty = WriteFile(dir / "empty.tsv", "scene\tA\tB\n");
+  EXPECT_NE(ErrorOf(empty).find("no split listed"), std::string::npos);
+  const std::string short_line = WriteFile(dir / "short.tsv", "scene\tA\tB\nroom\t0-9\n");
+  EXPECT_NE(ErrorOf(short_line).find(short_line + ":2: expected scene<TAB>A<TAB>B"),
+            std::string::npos);
+  for (const std::string range : {"9-3", "0-", "a-b", "0-9x", "-3-5"}) {
+    const std::string bad = WriteFile(dir / "bad.tsv", "room\t0-9\t" + range + "\n");
+    EXPECT_NE(ErrorOf(bad).find(bad + ":1: '" + range + "': expected a frame range FIRST-LAST"),
+              std::string::npos)
+        << range << ": " << ErrorOf(bad);
+  }
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
