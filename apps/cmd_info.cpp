@@ -152,8 +152,9 @@ Runner AddInfoCommand(CLI::App& app) {
       }
       // ICP's auto grid decides on the scan's median (RefineConfig::pixel_stride); a scan with a
       // point cloud (a fragment) gives ICP that cloud instead of its depth pixels.
-      const std::optional<double> distance = WorkingDistance(scan);
-      const double k = WorkingScale(distance, config.scale);
+      const ScaleEvidence evidence = MeasureScale(scan);
+      const std::optional<double> distance = evidence.distance_m;
+      const double k = WorkingScale(evidence, config.scale);
       if (const std::optional<double> a = MeasureDepthNoiseAt1m(scan)) {
         // ICP decides in working units, where a reads k times larger.
         const bool coarser =
@@ -171,13 +172,16 @@ Runner AddInfoCommand(CLI::App& app) {
           std::printf(", depth noise %.2g mm there, pixel footprint %.2g mm", *a * *d * *d * 1e3,
                       *d / scan.views.front().intrinsics.fx * 1e3);
         }
+        const char* from =
+            ScaleFromNoise(evidence, config.scale) ? " (read from the structured-light noise)" : "";
         if (k == 1.0) {
-          std::printf("; working scale 1: the config's lengths apply as written\n");
+          std::printf("; working scale 1%s: the config's lengths apply as written\n", from);
         } else {
           std::printf(
-              "; working scale %.3g: every length of the config is multiplied by it "
+              "; working scale %.3g%s: every length of the config is multiplied by it "
               "(RANSAC inlier distance %.3g m, ICP final gate %.3g m)\n",
-              k, k * config.ransac.inlier_threshold_m, k * config.refine.max_distance_final_m);
+              k, from, k * config.ransac.inlier_threshold_m,
+              k * config.refine.max_distance_final_m);
         }
       }
     }

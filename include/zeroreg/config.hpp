@@ -715,11 +715,12 @@ struct AmbiguityConfig {
 
 // The working scale (src/estimate/working_scale.hpp, docs/CONFIG.md "Any scale"). Every length
 // in this config (unit metres, names ending in _m) is a length at room scale: the defaults were
-// measured on rooms seen from 0.5-5 m. Where the cameras of a pair saw at a median distance
-// outside [room_min_m, room_max_m], the pipeline works in units of k metres, k = that distance /
-// the nearer end of the range (in quarter octaves), so every length below is multiplied by k and
-// the depth-noise coefficients (metres at 1 m) divided by it. Inside the range k = 1 and every
-// length is the metres written here.
+// measured on rooms seen from 1-5 m. Where the depth of a pair reads as a structured-light sensor
+// at another scale (below) k is that scale; else, where the cameras saw at a median distance
+// outside [room_min_m, room_max_m], k = that distance / the nearer end of the range (in quarter
+// octaves). The pipeline works in units of k metres, so every length below is multiplied by k and
+// the depth-noise coefficients (metres at 1 m) divided by it. On the shipped scenes k = 1 and
+// every length is the metres written here.
 struct ScaleConfig {
   bool automatic = true;  // false: k = 1 whatever the depth (every length as written)
   // The working distances (median valid depth of a scan's views, metres) the defaults were
@@ -729,8 +730,24 @@ struct ScaleConfig {
   // redkitchen frames), so k = 1 on every list and every default is what it was measured as.
   double room_min_m = 1.0;
   double room_max_m = 5.0;
-  // > 0: the working distance of every scan, instead of measuring it (metres).
+  // > 0: the working distance of every scan, instead of measuring it (metres); the depth noise
+  // then plays no part.
   double working_distance_m = 0.0;
+  // The distance alone cannot tell a room seen from 2 m by a noisy sensor from a 4x larger one
+  // seen from 8 m by a 4x better one; the depth noise can. Structured-light depth (Kinect v1,
+  // PrimeSense) measures disparity, so its noise in inverse depth, a = sigma(1/d)
+  // (src/estimate/depth_noise.hpp), is a constant of the sensor. The defaults were measured on
+  // such frames (7-Scenes redkitchen and TUM cabinet, every frame: a = 1.65-1.77 mm at 1 m, seen
+  // from 1.18-2.47 m). A pair whose relative noise a d (the same at any scale) lies within what
+  // those frames span, [noise_min * min_m, noise_max * max_m], is that sensor at another scale:
+  // k = sqrt(noise_min * noise_max) / a (quarter octaves), the k at which its noise reads as
+  // theirs; on those frames themselves k = 1. Depth whose a changes with the distance (the
+  // HoloLens' time of flight: 0.11-1.46 mm at 1 m, a d below 0.2 %) keeps the distance range
+  // above. structured_light_noise_min_at_1m_m = 0 turns this off.
+  double structured_light_noise_min_at_1m_m = 0.00164;
+  double structured_light_noise_max_at_1m_m = 0.00177;
+  double structured_light_min_m = 1.18;
+  double structured_light_max_m = 2.47;
 };
 
 struct PipelineConfig {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "estimate/depth_noise.hpp"
 #include "estimate/lift.hpp"
 
 namespace zeroreg {
@@ -29,6 +30,47 @@ std::optional<double> WorkingDistance(const Scan& scan) {
   return static_cast<double>(*middle);
 }
 
+namespace {
+
+// The nearest quarter octave 2^(n/4) to a ratio; exactly 1 within an eighth octave of it.
+double QuarterOctave(double ratio) {
+  const double quarters = std::round(4.0 * std::log2(ratio));
+  return quarters == 0 ? 1.0 : std::exp2(quarters / 4.0);
+}
+
+}  // namespace
+
+ScaleEvidence MeasureScale(const Scan& scan) {
+  return {WorkingDistance(scan), MeasureDepthNoiseAt1m(scan)};
+}
+
+ScaleEvidence PairScale(const ScaleEvidence& source, const ScaleEvidence& target) {
+  return {PairWorkingDistance(source.distance_m, target.distance_m),
+          PairWorkingDistance(source.noise_at_1m_m, target.noise_at_1m_m)};
+}
+
+bool ScaleFromNoise(const ScaleEvidence& evidence, const ScaleConfig& config) {
+  const std::optional<double>& d = evidence.distance_m;
+  const std::optional<double>& a = evidence.noise_at_1m_m;
+  if (!config.automatic || config.working_distance_m > 0 ||
+      !(config.structured_light_noise_min_at_1m_m > 0) || !d || !a || !(*d > 0) || !(*a > 0)) {
+    return false;
+  }
+  // Relative noise a d is scale-free: a copy s times the size has s d and a / s.
+  const double relative = *a * *d;
+  return relative >= config.structured_light_noise_min_at_1m_m * config.structured_light_min_m &&
+         relative <= config.structured_light_noise_max_at_1m_m * config.structured_light_max_m;
+}
+
+double WorkingScale(const ScaleEvidence& evidence, const ScaleConfig& config) {
+  if (ScaleFromNoise(evidence, config)) {
+    return QuarterOctave(std::sqrt(config.structured_light_noise_min_at_1m_m *
+                                   config.structured_light_noise_max_at_1m_m) /
+                         *evidence.noise_at_1m_m);
+  }
+  return WorkingScale(evidence.distance_m, config);
+}
+
 double WorkingScale(std::optional<double> distance_m, const ScaleConfig& config) {
   if (!config.automatic) return 1.0;
   if (config.working_distance_m > 0) distance_m = config.working_distance_m;
@@ -36,9 +78,8 @@ double WorkingScale(std::optional<double> distance_m, const ScaleConfig& config)
   double ratio = 1.0;
   if (*distance_m < config.room_min_m) ratio = *distance_m / config.room_min_m;
   if (*distance_m > config.room_max_m) ratio = *distance_m / config.room_max_m;
-  // Quarter octaves: log2 rounded to quarters. Just outside the range the ratio rounds to 1.
-  const double quarters = std::round(4.0 * std::log2(ratio));
-  return quarters == 0 ? 1.0 : std::exp2(quarters / 4.0);
+  // Quarter octaves. Just outside the range the ratio rounds to 1.
+  return QuarterOctave(ratio);
 }
 
 std::optional<double> PairWorkingDistance(std::optional<double> source_m,

@@ -264,6 +264,10 @@ void Visit(V& v, ScaleConfig& c) {
   v("room_min_m", c.room_min_m, Positive());
   v("room_max_m", c.room_max_m, Positive());
   v("working_distance_m", c.working_distance_m, AtLeast(0));
+  v("structured_light_noise_min_at_1m_m", c.structured_light_noise_min_at_1m_m, AtLeast(0));
+  v("structured_light_noise_max_at_1m_m", c.structured_light_noise_max_at_1m_m, AtLeast(0));
+  v("structured_light_min_m", c.structured_light_min_m, Positive());
+  v("structured_light_max_m", c.structured_light_max_m, Positive());
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {
@@ -505,6 +509,12 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
     throw MakeInputError(where, "scale.room_min_m (" + FormatNumber(c.scale.room_min_m) +
                                     ") must not exceed scale.room_max_m (" +
                                     FormatNumber(c.scale.room_max_m) + ")");
+  }
+  if (!(c.scale.structured_light_noise_min_at_1m_m <= c.scale.structured_light_noise_max_at_1m_m) ||
+      !(c.scale.structured_light_min_m <= c.scale.structured_light_max_m)) {
+    throw MakeInputError(where,
+                         "scale.structured_light_noise_min_at_1m_m / structured_light_min_m must "
+                         "not exceed their _max counterparts");
   }
   if (!(c.depth.min_m < c.depth.max_m)) {
     throw MakeInputError(where, "depth.min_m (" + FormatNumber(c.depth.min_m) +

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "estimate/icp.hpp"
+#include "estimate/working_scale.hpp"
 #include "pipeline/correspondence_source.hpp"
 #include "verify/verify.hpp"
 #include "zeroreg/register.hpp"
@@ -23,7 +24,7 @@ struct PreparedScan::Data {
   // working_scale; the scan as given when that is 1.
   Scan scan;
   double working_scale = 1.0;
-  std::optional<double> working_distance_m;        // the scan's median valid depth (metres)
+  ScaleEvidence scale_evidence;                    // its median valid depth and depth noise
   std::shared_ptr<const Scan> original;            // the scan as given, when working_scale != 1
   std::shared_ptr<const PerceivedScan> perceived;  // features, detections, masks, objects
   std::vector<SurfacePoint> surface;               // verification samples (verify.enabled)

@@ -163,11 +163,11 @@ struct Pipeline::Impl {
   // `k`: the working scale to prepare at (a pair's); unset: the scan's own.
   std::shared_ptr<const Prepared> PrepareChecked(const Scan& given, bool as_target = true,
                                                  std::optional<double> k = std::nullopt,
-                                                 std::optional<double> distance_m = {}) const {
+                                                 std::optional<ScaleEvidence> evidence = {}) const {
     auto p = std::make_shared<Prepared>();
     p->pipeline_id = id;
-    p->working_distance_m = distance_m ? distance_m : WorkingDistance(given);
-    p->working_scale = k ? *k : WorkingScale(p->working_distance_m, config.scale);
+    p->scale_evidence = evidence ? *evidence : MeasureScale(given);
+    p->working_scale = k ? *k : WorkingScale(p->scale_evidence, config.scale);
     if (p->working_scale != 1.0) {
       p->original = std::make_shared<const Scan>(given);
       p->scan = InWorkingUnits(given, p->working_scale);
@@ -224,11 +224,11 @@ struct Pipeline::Impl {
                                          std::shared_ptr<const Prepared> target,
                                          const std::optional<MotionPrior>& prior,
                                          StageTimer& timer) const {
-    const double k = WorkingScale(
-        PairWorkingDistance(source->working_distance_m, target->working_distance_m), config.scale);
+    const double k =
+        WorkingScale(PairScale(source->scale_evidence, target->scale_evidence), config.scale);
     const auto at_k = [&](std::shared_ptr<const Prepared>& p, bool as_target) {
       if (p->working_scale == k) return;
-      p = PrepareChecked(p->original ? *p->original : p->scan, as_target, k, p->working_distance_m);
+      p = PrepareChecked(p->original ? *p->original : p->scan, as_target, k, p->scale_evidence);
       for (const StageTime& st : p->timings) timer.Add(st.stage, st.ms);
     };
     at_k(source, /*as_target=*/false);
@@ -354,15 +354,14 @@ RegistrationResult Pipeline::Register(const Scan& source, const Scan& target,
   // The two scans' perception is independent: with two threads each scan is prepared on its own
   // (the models serialise their inference, so one scan's detector overlaps the other's features).
   // One working scale for both scans, from both (src/estimate/working_scale.hpp).
-  const std::optional<double> source_distance = WorkingDistance(source);
-  const std::optional<double> target_distance = WorkingDistance(target);
-  const double k =
-      WorkingScale(PairWorkingDistance(source_distance, target_distance), impl_->config.scale);
+  const ScaleEvidence source_scale = MeasureScale(source);
+  const ScaleEvidence target_scale = MeasureScale(target);
+  const double k = WorkingScale(PairScale(source_scale, target_scale), impl_->config.scale);
   std::shared_ptr<const Prepared> s, t;
   RunBoth(
       impl_->config.threads >= 2,
-      [&] { s = impl_->PrepareChecked(source, /*as_target=*/false, k, source_distance); },
-      [&] { t = impl_->PrepareChecked(target, /*as_target=*/true, k, target_distance); });
+      [&] { s = impl_->PrepareChecked(source, /*as_target=*/false, k, source_scale); },
+      [&] { t = impl_->PrepareChecked(target, /*as_target=*/true, k, target_scale); });
   StageTimer timer;
   // Per-scan stages first, summed over both scans (when they ran at once they add up to more
   // than the wall time), then the per-pair stages; "total" is the wall time of the call.

@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace zeroreg {
 namespace {
@@ -68,6 +70,61 @@ TEST(WorkingScale, SetDistanceOrOff) {
   EXPECT_DOUBLE_EQ(WorkingScale(2.0, c), 0.5);
   c.automatic = false;
   EXPECT_EQ(WorkingScale(0.05, c), 1.0);
+}
+
+// Structured-light depth: its noise in inverse depth is a constant of the sensor, so a copy s times
+// the size (distance s d, noise a / s) is read at k = s; the frames the defaults were measured on
+// (the corners of what they span) at k = 1.
+TEST(WorkingScale, StructuredLightNoiseGivesTheScale) {
+  const ScaleConfig c;
+  const double a_lo = c.structured_light_noise_min_at_1m_m;
+  const double a_hi = c.structured_light_noise_max_at_1m_m;
+  const double d_lo = c.structured_light_min_m, d_hi = c.structured_light_max_m;
+  for (const ScaleEvidence& e : std::vector<ScaleEvidence>{
+           {d_lo, a_lo}, {d_lo, a_hi}, {d_hi, a_lo}, {d_hi, a_hi}, {1.8, 0.0017}}) {
+    EXPECT_EQ(WorkingScale(e, c), 1.0) << *e.distance_m << " " << *e.noise_at_1m_m;
+    for (double s : {0.25, 4.0, 1.0 / 16}) {
+      const ScaleEvidence copy{s * *e.distance_m, *e.noise_at_1m_m / s};
+      EXPECT_DOUBLE_EQ(WorkingScale(copy, c), s) << *e.distance_m << " " << s;
+    }
+    // 0.1 is no quarter octave: one of the two around it (2^(-13/4) = 0.105 where the noise is
+    // the middle of the measured range, 2^(-14/4) = 0.088 at its noisier end). Times 0.1 is not
+    // exact in floating point: the copy of a corner is taken just inside the range.
+    const double d = std::clamp(*e.distance_m, 1.001 * d_lo, 0.999 * d_hi);
+    const ScaleEvidence tenth{0.1 * d, *e.noise_at_1m_m / 0.1};
+    const double k = WorkingScale(tenth, c);
+    EXPECT_TRUE(k == std::exp2(-13.0 / 4.0) || k == std::exp2(-14.0 / 4.0)) << k;
+  }
+  EXPECT_DOUBLE_EQ(WorkingScale(ScaleEvidence{0.18, 0.017}, c), std::exp2(-13.0 / 4.0));
+  // The distance band alone reads the large copy of a kitchen seen from 2 m as a room at 5 m.
+  EXPECT_DOUBLE_EQ(WorkingScale(ScaleEvidence{8.0, 0.0017 / 4}, c), 4.0);
+  EXPECT_DOUBLE_EQ(WorkingScale(std::optional<double>(8.0), c), std::exp2(0.75));
+}
+
+// Depth whose relative noise a d lies outside what the structured-light frames span (the
+// HoloLens' time of flight, a structured-light sensor much nearer or farther than they were) has
+// no sensor constant to read: the distance band decides, as without the noise.
+TEST(WorkingScale, OtherDepthKeepsTheDistanceBand) {
+  const ScaleConfig c;
+  for (double d : {0.05, 0.2, 1.3, 2.5, 4.7, 9.0, 30.0}) {
+    for (double a : {0.0001, 0.0004, 0.0015}) {
+      const double relative = a * d;
+      if (relative >= c.structured_light_noise_min_at_1m_m * c.structured_light_min_m &&
+          relative <= c.structured_light_noise_max_at_1m_m * c.structured_light_max_m) {
+        continue;
+      }
+      EXPECT_EQ(WorkingScale(ScaleEvidence{d, a}, c), WorkingScale(std::optional<double>(d), c))
+          << d << " " << a;
+    }
+    EXPECT_EQ(WorkingScale(ScaleEvidence{d, std::nullopt}, c),
+              WorkingScale(std::optional<double>(d), c));
+  }
+  ScaleConfig off = c;
+  off.structured_light_noise_min_at_1m_m = 0;
+  EXPECT_DOUBLE_EQ(WorkingScale(ScaleEvidence{8.0, 0.0017 / 4}, off), std::exp2(0.75));
+  ScaleConfig set = c;  // a set working distance decides alone
+  set.working_distance_m = 0.5;
+  EXPECT_DOUBLE_EQ(WorkingScale(ScaleEvidence{8.0, 0.0017 / 4}, set), 0.5);
 }
 
 TEST(PairWorkingDistance, GeometricMeanOrTheKnownOne) {

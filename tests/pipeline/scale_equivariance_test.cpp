@@ -71,6 +71,29 @@ TEST(ScaleEquivariance, ExactWhenTheWorkingScaleIsTheScale) {
   }
 }
 
+// The working scale measured from the data is the scale itself for structured-light depth (its
+// noise in inverse depth is a constant of the sensor; a copy's is 1 / s times it): the copies at
+// s = 0.25 and 4 are registered bit for bit as the kitchen, with no setting.
+TEST(ScaleEquivariance, StructuredLightCopiesAreTheSameProblem) {
+  const Scan source = Frame(60), target = Frame(0);
+  const RegistrationResult original = Register(source, target);
+  ASSERT_TRUE(original.valid) << original.reason;
+  for (double s : {0.25, 4.0}) {
+    SCOPED_TRACE(s);
+    const RegistrationResult r = Register(Scaled(source, s), Scaled(target, s));
+    EXPECT_EQ(r.valid, original.valid);
+    EXPECT_EQ(r.path, original.path) << r.reason << "\n" << original.reason;
+    EXPECT_EQ(r.num_inliers, original.num_inliers);
+    const Eigen::Matrix3d R = r.T_target_source.topLeftCorner<3, 3>();
+    const Eigen::Matrix3d R0 = original.T_target_source.topLeftCorner<3, 3>();
+    EXPECT_TRUE(R == R0) << R;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_DOUBLE_EQ(r.T_target_source(i, 3), s * original.T_target_source(i, 3));
+    }
+    EXPECT_DOUBLE_EQ(r.verification.score, original.verification.score);
+  }
+}
+
 // The working scale measured from the data: a kitchen ten times smaller (seen from 12-25 cm, as a
 // phone sees a door handle) and four times larger are registered as well as the kitchen, with
 // errors in proportion.
@@ -106,13 +129,15 @@ TEST(ScaleEquivariance, RoomLengthsFailTheSmallCopy) {
   EXPECT_FALSE(r.valid && right) << r.reason;
 }
 
-// Scans prepared one by one get their own working scale (the kitchen at s = 0.25: frame 0 is seen
-// from 0.47 m, k = 0.5, frame 60 from 0.42 m, k = 0.42); a pair registers both at the pair's
-// (0.42), preparing again the one whose own differs: the same result as registering the two
-// scans at once.
+// Scans prepared one by one get their own working scale (the kitchen at s = 0.25 read by the
+// distance alone: frame 0 is seen from 0.47 m, k = 0.5, frame 60 from 0.42 m, k = 0.42); a pair
+// registers both at the pair's (0.42), preparing again the one whose own differs: the same
+// result as registering the two scans at once.
 TEST(ScaleEquivariance, PreparedScansMeetAtThePairsScale) {
   const Scan source = Scaled(Frame(60), 0.25), target = Scaled(Frame(0), 0.25);
-  const Pipeline pipeline{PipelineConfig{}};
+  PipelineConfig by_distance;
+  by_distance.scale.structured_light_noise_min_at_1m_m = 0;  // else both are read at 0.25
+  const Pipeline pipeline{by_distance};
   const PreparedScan s = pipeline.Prepare(source, /*as_target=*/false);
   const PreparedScan t = pipeline.Prepare(target);
   EXPECT_EQ(s.scan().views[0].depth.data, source.views[0].depth.data);  // the scan as given
