@@ -133,8 +133,8 @@ Runner::PairRegistration Runner::RegisterPair(const Keyframe& source, const Keyf
   LoopUncertainty uncertainty;
   if (config_.registrar == "zeroreg") {
     const RegistrationResult r = pipeline_->Register(Prepared(source), Prepared(target));
-    out = {r.valid, r.reason, PathName(r.path), r.T_target_source, r.num_inliers,
-           r.verification.overlap};
+    out = {r.valid,           r.reason,      PathName(r.path),
+           r.T_target_source, r.num_inliers, r.verification.overlap};
     uncertainty = UncertaintyOfRegistration(r);
   } else {
     const auto scan = [&](const Keyframe& k) {

@@ -11,6 +11,7 @@
 
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
+#include "recordings/open3d_baseline.hpp"
 #include "rigid_motion.hpp"
 #include "test_paths.hpp"
 #include "zeroreg/error.hpp"
