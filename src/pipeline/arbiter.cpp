@@ -358,6 +358,7 @@ void Arbiter::SecondPose(Judged* held) {
     if (seen) continue;
     if (Rivals(config, first, second.result, apart_m)) {
       rivals.push_back(AlternativeOf(second.result, apart_m));
+      break;  // one rival settles it: the result is ambiguous
     } else if (second.result.outside_prior && second.result.verification.passed &&
                apart_m > config.refine.max_distance_coarse_m) {
       RegistrationResult unprioritised = second.result;

@@ -36,10 +36,11 @@ RegistrationResult Candidate(double score, bool passed = true, double rho = 0.7)
   return r;
 }
 
-// The test switched on (ambiguity.enabled is off by default).
+// The test on winners with fewer than 50 image inliers too (by default: fewer than 4).
 PipelineConfig On() {
   PipelineConfig config;
   config.ambiguity.enabled = true;
+  config.ambiguity.decisive_inliers = 50;
   return config;
 }
 
@@ -154,7 +155,7 @@ AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, i
 
 TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
   const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}});
-  EXPECT_EQ(run.asked, 6);  // three turns about each of two centres
+  EXPECT_EQ(run.asked, 2);  // one rival settles it: turned-90, then turned-180
   const RegistrationResult& r = run.result;
   EXPECT_FALSE(r.valid);
   EXPECT_TRUE(r.ambiguous);
@@ -188,8 +189,13 @@ TEST(AmbiguityArbiter, ADecisiveResultIsNotSearched) {
   const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 500);
   EXPECT_EQ(run.asked, 0);
   EXPECT_TRUE(run.result.valid);
-  const PipelineConfig off;  // the default
-  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 10, off).asked, 0);
+  // By default ten image inliers are decisive, three are not.
+  const PipelineConfig defaults;
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 10, defaults).asked, 0);
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 3, defaults).asked, 2);
+  PipelineConfig off;
+  off.ambiguity.enabled = false;
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 3, off).asked, 0);
 }
 
 TEST(AmbiguityArbiter, APriorThatRulesTheOtherPoseOutKeepsTheResultValid) {
@@ -229,6 +235,49 @@ TEST(AmbiguityJson, AlternativesRoundTripThroughTheResultJson) {
   const nlohmann::json plain = ResultToJson(RegistrationResult(), false);
   EXPECT_EQ(plain["ambiguous"], false);
   EXPECT_TRUE(plain["alternatives"].empty());
+}
+
+// The vertical the second poses turn about: the principal axis of the target's surface normals
+// nearest its image up (a camera pitched 40 deg down sees floor and furniture tops 40 deg off its
+// image up), the image up where no axis the normals gather along lies within 45 deg of it.
+Eigen::Vector3d TurnAxisFor(double normals_tilt_deg, bool with_wall) {
+  PipelineConfig config;
+  Prepared source, target;
+  for (int i = 0; i < 50; ++i) {
+    source.surface.push_back({Eigen::Vector3d(0.05 * i, 0.0, 2.0), Eigen::Vector3d::Zero()});
+  }
+  target.scan.views.emplace_back();  // image up along -y
+  const double a = normals_tilt_deg * M_PI / 180.0;
+  const Eigen::Vector3d vertical(0.0, -std::cos(a), std::sin(a));  // tilted about x
+  const Eigen::Vector3d facing(0.0, std::sin(a), std::cos(a));     // a wall, orthogonal to it
+  for (int i = 0; i < 60; ++i) {
+    const bool wall = with_wall && i % 3 == 0;
+    target.surface.push_back({Eigen::Vector3d(0.0, 0.0, 2.0), wall ? facing : vertical});
+  }
+  const std::optional<MotionPrior> no_prior;
+  RegistrationResult first;  // at the identity
+  PairInputs pair{source, target, config, no_prior, nullptr, nullptr, {}, nullptr, &first, &config};
+  pair.first = &first;
+  for (const std::unique_ptr<PoseSource>& s : MakeSources(CostClass::kSecondPose)) {
+    std::string note;
+    const std::optional<Proposal> p = s->Propose(pair, &note);
+    if (!p || p->path.source != PathSource::kTurned180) continue;
+    const Eigen::AngleAxisd turn(Eigen::Matrix3d(p->pose->topLeftCorner<3, 3>()));
+    EXPECT_NEAR(turn.angle(), M_PI, 1e-9);
+    return turn.axis().dot(Eigen::Vector3d(0, -1, 0)) < 0 ? Eigen::Vector3d(-turn.axis())
+                                                          : Eigen::Vector3d(turn.axis());
+  }
+  ADD_FAILURE() << "no half turn proposed";
+  return Eigen::Vector3d::Zero();
+}
+
+TEST(AmbiguitySecondPose, TurnsAboutTheSurfacesVerticalNotTheImageUp) {
+  const double a = 40.0 * M_PI / 180.0;
+  const Eigen::Vector3d tilted(0.0, -std::cos(a), std::sin(a));
+  EXPECT_TRUE(TurnAxisFor(40.0, true).isApprox(tilted, 1e-6));
+  EXPECT_TRUE(TurnAxisFor(40.0, false).isApprox(tilted, 1e-6));
+  // The only plane 60 deg off the image up (the other two axes are arbitrary): the image up.
+  EXPECT_TRUE(TurnAxisFor(60.0, false).isApprox(Eigen::Vector3d(0.0, -1.0, 0.0), 1e-6));
 }
 
 // Real frames: a TUM cabinet pair seen from opposite sides (co-visibility 0.26, 179 deg between
