@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "estimate/rigid_inverse.hpp"
 #include "eval/metrics.hpp"
 #include "eval/sessions_protocol.hpp"
 #include "recording_options.hpp"
@@ -73,13 +74,6 @@ std::vector<Split> ReadSplits(const std::string& path) {
   return out;
 }
 
-Transform Inverse(const Transform& T) {
-  Transform inverse = Transform::Identity();
-  inverse.topLeftCorner<3, 3>() = T.topLeftCorner<3, 3>().transpose();
-  inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
-  return inverse;
-}
-
 // One split, mode and seed: the merge and its errors.
 json RunOne(const SessionsOptions& o, const Split& split, const std::string& mode, int seed,
             const std::string& dir) {
@@ -107,7 +101,7 @@ json RunOne(const SessionsOptions& o, const Split& split, const std::string& mod
 
   json row = {{"scene", split.scene}, {"method", o.method}, {"mode", mode},
               {"seed", seed},         {"found", r.found},   {"reason", r.reason}};
-  const Transform T_A_B_true = Inverse(T_Bframe_world);
+  const Transform T_A_B_true = RigidInverse(T_Bframe_world);
   row["ate_a_before_cm"] = 100.0 * AbsoluteTrajectoryError(given_a, truth_a);
   row["ate_b_before_cm"] = 100.0 * AbsoluteTrajectoryError(given_b_world, truth_b);
   if (r.found) {
@@ -124,7 +118,7 @@ json RunOne(const SessionsOptions& o, const Split& split, const std::string& mod
   int accepted = 0, wrong = 0, valid = 0, valid_wrong = 0;
   std::set<std::pair<int, int>> accepted_right;
   for (const LoopCandidateResult& c : r.candidates) {
-    const Transform T_true = Inverse(truth(r.keyframes[c.u])) * truth(r.keyframes[c.v]);
+    const Transform T_true = RigidInverse(truth(r.keyframes[c.u])) * truth(r.keyframes[c.v]);
     const bool right =
         RotationErrorDeg(c.T_u_v, T_true) <= 5.0 && TranslationErrorM(c.T_u_v, T_true) <= 0.10;
     valid += c.valid;

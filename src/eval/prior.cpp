@@ -1,5 +1,7 @@
 #include "eval/prior.hpp"
 
+#include "eval/seeded_random.hpp"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -18,17 +20,6 @@ std::uint64_t HashKey(const std::string& key) {
   return h;
 }
 
-// A double in [0, 1) from the generator's top 53 bits.
-double Uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
-
-// A unit vector uniform on the sphere (Archimedes: z uniform in [-1, 1], longitude uniform).
-Eigen::Vector3d UnitVector(std::mt19937_64& rng) {
-  const double z = 2.0 * Uniform(rng) - 1.0;
-  const double longitude = 2.0 * M_PI * Uniform(rng);
-  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-  return {r * std::cos(longitude), r * std::sin(longitude), z};
-}
-
 }  // namespace
 
 nlohmann::json PriorErrorToJson(const PriorError& e) {
@@ -41,8 +32,8 @@ nlohmann::json PriorErrorToJson(const PriorError& e) {
 MotionPrior PriorOffTheTruth(const Transform& T_gt, const PriorError& error, std::uint64_t seed,
                              const std::string& pair_key) {
   std::mt19937_64 rng(HashKey(pair_key) ^ (seed * 0x9E3779B97F4A7C15ull));
-  const Eigen::Vector3d axis = UnitVector(rng);
-  const Eigen::Vector3d direction = UnitVector(rng);
+  const Eigen::Vector3d axis = UniformUnitVector(rng);
+  const Eigen::Vector3d direction = UniformUnitVector(rng);
   Transform offset = Transform::Identity();
   offset.topLeftCorner<3, 3>() =
       Eigen::AngleAxisd(error.rotation_deg * M_PI / 180.0, axis).toRotationMatrix();

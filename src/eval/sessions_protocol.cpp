@@ -1,34 +1,24 @@
 #include "eval/sessions_protocol.hpp"
 
+#include "eval/seeded_random.hpp"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
 #include <random>
 
 namespace zeroreg {
-namespace {
-
-double Uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
-
-Eigen::Vector3d UnitVector(std::mt19937_64& rng) {
-  const double z = 2.0 * Uniform(rng) - 1.0;
-  const double phi = 2.0 * M_PI * Uniform(rng);
-  const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-  return {r * std::cos(phi), r * std::sin(phi), z};
-}
-
-}  // namespace
 
 Transform SeededUnalignment(std::uint64_t seed, double max_translation_m) {
   std::mt19937_64 rng(seed * 2654435761u + 1);
   // Shoemake's uniform random unit quaternion.
-  const double u1 = Uniform(rng), u2 = Uniform(rng), u3 = Uniform(rng);
+  const double u1 = Uniform01(rng), u2 = Uniform01(rng), u3 = Uniform01(rng);
   const Eigen::Quaterniond q(
       std::sqrt(u1) * std::cos(2 * M_PI * u3), std::sqrt(1 - u1) * std::sin(2 * M_PI * u2),
       std::sqrt(1 - u1) * std::cos(2 * M_PI * u2), std::sqrt(u1) * std::sin(2 * M_PI * u3));
   Transform T = Transform::Identity();
   T.topLeftCorner<3, 3>() = q.normalized().toRotationMatrix();
-  T.topRightCorner<3, 1>() = UnitVector(rng) * (max_translation_m * Uniform(rng));
+  T.topRightCorner<3, 1>() = UniformUnitVector(rng) * (max_translation_m * Uniform01(rng));
   return T;
 }
 
@@ -46,9 +36,9 @@ std::map<int, Transform> DriftedOdometry(const std::map<int, Transform>& ground_
       Transform motion = previous_truth->inverse() * T;
       Transform error = Transform::Identity();
       error.topLeftCorner<3, 3>() =
-          Eigen::AngleAxisd(rotation_deg * M_PI / 180.0, UnitVector(rng)).toRotationMatrix();
+          Eigen::AngleAxisd(rotation_deg * M_PI / 180.0, UniformUnitVector(rng)).toRotationMatrix();
       error.topRightCorner<3, 1>() =
-          UnitVector(rng) * (translation_fraction * motion.topRightCorner<3, 1>().norm());
+          UniformUnitVector(rng) * (translation_fraction * motion.topRightCorner<3, 1>().norm());
       out[id] = previous * motion * error;
     }
     previous_truth = &T;

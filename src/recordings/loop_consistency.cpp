@@ -6,19 +6,13 @@
 #include <string>
 
 #include "estimate/max_clique.hpp"
+#include "estimate/rigid_inverse.hpp"
 #include "eval/metrics.hpp"
 
 namespace zeroreg {
 namespace {
 
 constexpr double kDegreesPerRadian = 180.0 / M_PI;
-
-Transform Inverse(const Transform& T) {
-  Transform inverse = Transform::Identity();
-  inverse.topLeftCorner<3, 3>() = T.topLeftCorner<3, 3>().transpose();
-  inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
-  return inverse;
-}
 
 void CheckNode(int node, const OdometryContext& odometry, std::size_t loop_index) {
   const std::size_t n = odometry.T_world_node.size();
@@ -37,7 +31,7 @@ LoopClosure OrientedLike(const LoopClosure& k, const LoopClosure& l,
     return odometry.recording_of_node[static_cast<std::size_t>(node)];
   };
   if (recording(l.u) == recording(k.u) && recording(l.v) == recording(k.v)) return l;
-  return {l.v, l.u, Inverse(l.T_u_v)};
+  return {l.v, l.u, RigidInverse(l.T_u_v)};
 }
 
 }  // namespace
@@ -49,10 +43,10 @@ CycleError LoopCycleError(const LoopClosure& k, const LoopClosure& l_given,
   const auto path = [&](int node) {
     return odometry.path_length_m[static_cast<std::size_t>(node)];
   };
-  const Transform T_vk_vl = Inverse(pose(k.v)) * pose(l.v);
-  const Transform T_uk_ul = Inverse(pose(k.u)) * pose(l.u);
+  const Transform T_vk_vl = RigidInverse(pose(k.v)) * pose(l.v);
+  const Transform T_uk_ul = RigidInverse(pose(k.u)) * pose(l.u);
   // u_k -> v_k -> v_l -> u_l -> u_k.
-  const Transform cycle = k.T_u_v * T_vk_vl * Inverse(l.T_u_v) * Inverse(T_uk_ul);
+  const Transform cycle = k.T_u_v * T_vk_vl * RigidInverse(l.T_u_v) * RigidInverse(T_uk_ul);
   CycleError e;
   e.rotation_deg = RotationErrorDeg(cycle, Transform::Identity());
   e.translation_m = cycle.topRightCorner<3, 1>().norm();

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "estimate/rigid_inverse.hpp"
 #include "eval/metrics.hpp"
 #include "eval/prepared_cache.hpp"
 #include "pipeline/prepared.hpp"
@@ -38,13 +39,6 @@ using nlohmann::json;
 
 constexpr double kRadiansPerDegree = M_PI / 180.0;
 const char* const kRecordingNames[2] = {"A", "B"};
-
-Transform Inverse(const Transform& T) {
-  Transform inverse = Transform::Identity();
-  inverse.topLeftCorner<3, 3>() = T.topLeftCorner<3, 3>().transpose();
-  inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
-  return inverse;
-}
 
 struct Keyframe {
   int recording = 0;
@@ -427,7 +421,7 @@ void Runner::Decide() {
   for (int i : set.rival) result_.candidates[candidate_of_loop[i]].verdict = "rival";
   const auto implied_by = [&](int loop) -> Transform {
     const LoopCandidateResult& c = result_.candidates[candidate_of_loop[loop]];
-    const Transform T = keyframes_[c.u].T_before * c.T_u_v * Inverse(keyframes_[c.v].T_before);
+    const Transform T = keyframes_[c.u].T_before * c.T_u_v * RigidInverse(keyframes_[c.v].T_before);
     return T;
   };
   // Another placement of B: loop closures outside the largest set whose T_A_B lies far from its
@@ -501,7 +495,8 @@ void Runner::Decide() {
     std::vector<Transform> implied;
     for (int i : accepted_) {
       const LoopCandidateResult& c = result_.candidates[i];
-      implied.push_back(keyframes_[c.u].T_before * c.T_u_v * Inverse(keyframes_[c.v].T_before));
+      implied.push_back(keyframes_[c.u].T_before * c.T_u_v *
+                        RigidInverse(keyframes_[c.v].T_before));
     }
     double best = 1e300;
     for (const Transform& T : implied) {
@@ -532,7 +527,7 @@ void Runner::Optimize() {
       PoseGraphEdge e;
       e.from = nodes[i - 1];
       e.to = nodes[i];
-      e.T_from_to = Inverse(a.T_before) * b.T_before;
+      e.T_from_to = RigidInverse(a.T_before) * b.T_before;
       const double distance = e.T_from_to.topRightCorner<3, 1>().norm();
       const int frames = std::max(1, b.position - a.position);
       e.rotation_sigma_rad = config_.odometry_sigma_deg_per_frame *
@@ -564,7 +559,7 @@ void Runner::Optimize() {
     std::vector<int> kept, dropped;
     for (int i : accepted_) {
       const LoopCandidateResult& c = result_.candidates[i];
-      const Transform predicted = Inverse(solved.T_world_node[c.u]) * solved.T_world_node[c.v];
+      const Transform predicted = RigidInverse(solved.T_world_node[c.u]) * solved.T_world_node[c.v];
       const bool off = RotationErrorDeg(c.T_u_v, predicted) > config_.max_loop_residual_deg ||
                        TranslationErrorM(c.T_u_v, predicted) > config_.max_loop_residual_m;
       (off ? dropped : kept).push_back(i);
@@ -590,7 +585,7 @@ void Runner::Optimize() {
     // redkitchen split: 1.0-1.9 deg off, against 1.4-3.6 deg for the mean move of all of B's
     // keyframes, which takes in B's drift and the bend the loop closures give it.
     const int first = nodes_of_[1].front();
-    result_.T_A_B = solved.T_world_node[first] * Inverse(keyframes_[first].T_before);
+    result_.T_A_B = solved.T_world_node[first] * RigidInverse(keyframes_[first].T_before);
   }
   Log("pose graph: " + std::to_string(keyframes_.size()) + " keyframes, " +
       std::to_string(edges.size()) + " edges, cost " + std::to_string(solved.initial_cost) +

@@ -4,19 +4,13 @@
 #include <algorithm>
 #include <string>
 
+#include "estimate/rigid_inverse.hpp"
 #include "features/fpfh.hpp"
 #include "open3d_module/open3d_module.hpp"
 #include "zeroreg/error.hpp"
 
 namespace zeroreg {
 namespace {
-
-Transform RigidInverse(const Transform& T) {
-  Transform inverse = Transform::Identity();
-  inverse.topLeftCorner<3, 3>() = T.topLeftCorner<3, 3>().transpose();
-  inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
-  return inverse;
-}
 
 // The rotation nearest (Frobenius) to the sum of rotations and the mean translation.
 Transform ChordalMean(const std::vector<Transform>& poses) {

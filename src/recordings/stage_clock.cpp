@@ -3,18 +3,13 @@
 #include <chrono>
 #include <fstream>
 
+#include "estimate/rigid_inverse.hpp"
+
 namespace zeroreg {
 namespace {
 
 double NowSeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-Transform RigidInverse(const Transform& T) {
-  Transform inverse = Transform::Identity();
-  inverse.topLeftCorner<3, 3>() = T.topLeftCorner<3, 3>().transpose();
-  inverse.topRightCorner<3, 1>() = -T.topLeftCorner<3, 3>().transpose() * T.topRightCorner<3, 1>();
-  return inverse;
 }
 
 }  // namespace
