@@ -680,9 +680,8 @@ struct HypothesesConfig {
 // not valid but ambiguous, with both poses in RegistrationResult::alternatives.
 struct AmbiguityConfig {
   // On by default, searching only winners that rest on little (decisive_inliers): over the ten
-  // frame lists the 3 valid-but-wrong results of 739 valid (hololens-low) were two geometry
-  // cliques' and an object clique's with 0 image inliers left, no image source's winner with 4 or
-  // more was wrong, and the search runs on 76 of the 784 pairs.
+  // frame lists every valid-but-wrong result came from the geometry or object cliques (3 of the
+  // 739 valid results, hololens-low, 0-7 inliers), and the search runs on 76 of the 784 pairs.
   bool enabled = true;
   // Decisive: a winner of a source that matched images (objects, whole or turned images) with at
   // least this many image correspondences (inliers under the reported pose). 4 by the rule ICP's

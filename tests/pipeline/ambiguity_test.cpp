@@ -23,6 +23,17 @@ Transform Along(double x_m) {
   return T;
 }
 
+// Along(x_m) after a quarter turn about the line y = 0, z = 2 (where the stand-in source samples
+// lie, so it moves none of them): a second pose as far from the first as Along(x_m), turned.
+Transform TurnedAlong(double x_m) {
+  Transform turn = Transform::Identity();
+  turn.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d on_axis(0.0, 0.0, 2.0);
+  turn.topRightCorner<3, 1>() = on_axis - turn.topLeftCorner<3, 3>() * on_axis;
+  return Along(x_m) * turn;
+}
+
 // A candidate as the judge leaves it: its check's score, whether that check passed, and how well
 // the images agree where the depth does.
 RegistrationResult Candidate(double score, bool passed = true, double rho = 0.7) {
@@ -44,24 +55,39 @@ PipelineConfig On() {
   return config;
 }
 
+// A second pose as the judge leaves it, a quarter turn from the first (at the identity).
+RegistrationResult Second(double score, bool passed = true, double rho = 0.8) {
+  RegistrationResult r = Candidate(score, passed, rho);
+  r.T_target_source = TurnedAlong(0.0);
+  return r;
+}
+
 TEST(AmbiguityRule, ASecondPoseRivalsOnlyWhenItFitsFarAwayAndItsImagesAgree) {
   const PipelineConfig config = On();
   const double gate = config.refine.max_distance_coarse_m;
   const RegistrationResult first = Candidate(0.6);
-  EXPECT_TRUE(Rivals(config, first, Candidate(0.4), 2 * gate));
+  EXPECT_TRUE(Rivals(config, first, Second(0.4), 2 * gate));
   // Within ICP's widest gate the two are one answer.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6), 0.5 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6), 0.5 * gate));
+  // Turned back within half a quarter turn of the first: the first again, not a symmetry.
+  RegistrationResult back = Candidate(0.4);
+  back.T_target_source.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_FALSE(Rivals(config, first, back, 2 * gate));
+  back.T_target_source.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(50.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_TRUE(Rivals(config, first, back, 2 * gate));
   // Refused by the (relaxed) check.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, /*passed=*/false), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, /*passed=*/false), 2 * gate));
   // The images disagree where the depth agrees: unrelated surfaces lined up.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, true, 0.1), 2 * gate));
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, true, std::nan("")), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, true, 0.1), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, true, std::nan("")), 2 * gate));
   // Scoring far below the first is not about as good.
   const double fraction = config.ambiguity.min_score_fraction;
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6 * fraction * 0.9), 2 * gate));
-  EXPECT_TRUE(Rivals(config, first, Candidate(0.6 * fraction * 1.1), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6 * fraction * 0.9), 2 * gate));
+  EXPECT_TRUE(Rivals(config, first, Second(0.6 * fraction * 1.1), 2 * gate));
   // A motion prior that rules it out separates the two.
-  RegistrationResult beyond = Candidate(0.6);
+  RegistrationResult beyond = Second(0.6);
   beyond.outside_prior = true;
   EXPECT_FALSE(Rivals(config, first, beyond, 2 * gate));
 }
@@ -143,7 +169,7 @@ AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, i
     r.outside_prior = s.outside_prior;
     r.path = p.path;
     r.path.moved_by_icp = true;
-    r.T_target_source = Along(s.offset_m);
+    r.T_target_source = TurnedAlong(s.offset_m);
     return j;
   };
   StageTimer timer;
@@ -169,7 +195,7 @@ TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
   EXPECT_EQ(r.alternatives[1].name, "turned-180 icp");
   EXPECT_DOUBLE_EQ(r.alternatives[1].score, 0.45);
   EXPECT_NEAR(r.alternatives[1].apart_m, 1.5, 1e-9);
-  EXPECT_TRUE(r.alternatives[1].T_target_source.isApprox(Along(1.5)));
+  EXPECT_TRUE(r.alternatives[1].T_target_source.isApprox(TurnedAlong(1.5)));
   // The reported pose is the first.
   EXPECT_TRUE(r.T_target_source.isApprox(Transform::Identity()));
 }
