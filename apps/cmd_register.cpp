@@ -283,7 +283,7 @@ Runner AddRegisterCommand(CLI::App& app) {
     }
     if (!o->viz.empty()) {
       const auto pictures =
-          WriteRegistrationPictures(o->viz, source, target, result, config.verify);
+          WriteRegistrationPictures(o->viz, source, target, result, config.verify, config.depth);
       std::printf("%zu pictures written to %s\n", pictures.size(), o->viz.c_str());
     }
     // Paths that are not UTF-8 are written with U+FFFD in the JSON; the file is replaced
@@ -300,7 +300,7 @@ Runner AddRegisterCommand(CLI::App& app) {
       if (ec) throw MakeInputError(o->out_dir, "cannot create the folder (" + ec.message() + ")");
       detail::WriteFileAtomically((dir / "result.json").string(), result_text);
       const auto pictures = WriteRegistrationPictures((dir / "pictures").string(), source, target,
-                                                      result, config.verify);
+                                                      result, config.verify, config.depth);
       const RegisteredPlyFiles ply =
           WriteRegisteredPly(o->out_dir, source, target, result.T_target_source);
       std::printf(

@@ -7,7 +7,7 @@ DATA is a scene folder (3DMatch layout, e.g. ../shared/data/7scenes-redkitchen, 
 made by scripts/bench-resolution.sh under cache/resized/). Every N-th frame (default 7) is
 measured with zeroreg.depth_noise_at_1m_m (src/estimate/depth_noise.hpp) and the minimum,
 median, 95th percentile and maximum are printed: the figures docs/CONFIG.md "Depth noise" quotes,
-and what to set verify.depth_noise_at_1m_m / refine.depth_noise_at_1m_m from for a new sensor.
+and what to set depth.noise_at_1m_m from for a new sensor.
 """
 import argparse
 import os

@@ -22,25 +22,36 @@ struct FeatureConfig {
   double sift_contrast_threshold = 0.04;
 };
 
-// Lifting matched pixels to 3D with depth.
+// What a depth reading is worth: one model that lifting, segmentation, the geometric check, ICP and
+// view synthesis all read, so the stages cannot disagree about which readings count.
+struct DepthModel {
+  double min_m = 0.1;  // closer readings are sensor noise for structured-light cameras
+  double max_m = 8.0;  // beyond this, consumer depth is too noisy to register with
+  // A reading differing from a neighbour by more than edge_relative * depth is a depth jump: the
+  // pixel may belong to either surface (mixed pixels lie in free space). 5 %: beyond the 1-2 % of
+  // structured-light noise at room range, below the step between objects and what they stand on.
+  double edge_relative = 0.05;
+  // Axial noise sigma(d) = noise_at_1m_m * d^noise_exponent of structured-light and ToF RGB-D
+  // sensors (Khoshelham & Elberink 2012: Kinect ~1.5 mm at 1 m, ~4 cm at 5 m): the check's
+  // agreement tolerance and ICP's pair weights. Lifting and segmentation measure each view's own
+  // coefficient from its depth instead (src/estimate/depth_noise.hpp).
+  double noise_at_1m_m = 0.0015;
+  double noise_exponent = 2.0;
+};
+
+// Lifting matched pixels to 3D with depth (the depth range and edge rule: DepthModel).
 struct LiftConfig {
-  double min_depth_m = 0.1;  // closer readings are sensor noise for structured-light cameras
-  double max_depth_m = 8.0;  // beyond this, consumer depth is too noisy to register with
   // A pixel is on a depth edge (and skipped) when some valid pixel within depth_edge_radius_px
-  // differs in depth by more than depth_edge_relative * depth. Invalid pixels do not count
+  // differs in depth by more than depth.edge_relative * depth. Invalid pixels do not count
   // (HoloLens depth has thin holes everywhere). Colour and depth are not always registered
   // (7-Scenes: ~5 px), so the radius is a few pixels.
   int depth_edge_radius_px = 4;
-  double depth_edge_relative = 0.05;
   // Noisy depth is not an edge: a jump must also exceed edge_noise_sigmas times the spread of the
   // difference of two readings, sqrt(2) sigma(d) with sigma(d) = a d^2 and a measured from the
   // view's own depth (src/estimate/depth_noise.hpp, docs/CONFIG.md "Depth noise"). 4 sigmas: of
   // the ~80 neighbours in the radius, noise alone then marks about 0.5 % of the pixels. On
   // Kinect v1 depth (a = 1.7 mm) this floor passes 5 % of the depth only beyond 5 m. 0 = off.
   double edge_noise_sigmas = 4.0;
-  // The a of the view being lifted (metres at 1 m), set per view by the pipeline (LiftForView);
-  // not a setting (not read from or written to JSON). 0 = unknown: no noise floor.
-  double view_depth_noise_at_1m_m = 0.0;
 };
 
 struct SinkhornConfig {
@@ -265,13 +276,12 @@ struct SegmenterConfig {
   // (the segmenter gets no intrinsics). Kinect 585/640 = 0.91, ScanNet 1170/1296 = 0.90.
   double focal_length_fraction = 0.9;
   // Colour and depth are not registered on 7-Scenes (~5 px, data MANIFEST), so mask pixels within
-  // depth_edge_radius_px of a depth jump larger than depth_edge_relative * depth (between valid
+  // depth_edge_radius_px of a depth jump larger than depth.edge_relative * depth (between valid
   // readings, or of a hole; see min_hole_width_px) are dropped: their depth may belong to the
   // object behind or in front. Together with the erosion below the mask keeps 4 px off depth jumps;
   // colour pixels that bleed further onto the background are removed by the depth band. Larger
   // radii erase thin parts (chair rails).
   int depth_edge_radius_px = 3;
-  double depth_edge_relative = 0.05;
   // Missing depth within the radius is an edge only where the hole holds a min_hole_width_px x
   // min_hole_width_px square of missing pixels (a morphological opening of the hole mask): a
   // sensor's shadow or an out-of-range surface, whose border may be an object's. A thinner gap is
@@ -289,7 +299,7 @@ struct SegmenterConfig {
   // as a depth edge only when its readings also spread over more than 2 * depth_noise_sigmas *
   // sigma(d) (each reading of one surface may lie that many sigmas off it, either way), and the
   // depth band's half-width is at least depth_noise_sigmas * sigma(d). For the Kinect v1 scenes
-  // (a = 1.65-1.76 mm) the edge floor passes depth_edge_relative only beyond 3.55-3.8 m and the
+  // (a = 1.65-1.76 mm) the edge floor passes depth.edge_relative only beyond 3.55-3.8 m and the
   // band floor passes the band's relative term only beyond 4.3-4.5 m; on the copy of redkitchen
   // with 10 mm at 1 m most masks were lost beyond 1 m without it (docs/CONFIG.md, "Depth noise").
   // 0 = no floor (the steps as before).
@@ -382,13 +392,10 @@ struct RefineConfig {
   double min_kept_inlier_fraction = 0.5;
   double anchor_weight_fine = 0.0;
   // Every closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), the inverse variance of
-  // the axial depth noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth
-  // readings (metres at 1 m; the structured-light model and value of VerifyConfig, Khoshelham &
-  // Elberink 2012), floored at 1 mm: near, precise readings count more than far ones, whose
-  // noise and calibration bias pulled ICP centimetres off the truth (docs/CONFIG.md, "Depth-noise
-  // weights"). Points of a fused cloud (no one reading) add no variance. 0 = equal weights.
-  double depth_noise_at_1m_m = 0.0015;
-  double depth_noise_exponent = 2.0;
+  // the axial depth noise sigma(d) of its two depth readings (DepthModel), floored at 1 mm: near,
+  // precise readings count more than far ones, whose noise and calibration bias pulled ICP
+  // centimetres off the truth (docs/CONFIG.md, "Depth-noise weights"). Points of a fused cloud (no
+  // one reading) add no variance.
   // No movement guard: with verification on, the refined transform is kept only when the
   // geometric check scores it at least as well as the estimate it started from.
 };
@@ -405,23 +412,18 @@ struct VerifyConfig {
   // 540 px wide, every 8th at 1280; src/estimate/lift.hpp, PixelGrid), so the number of samples,
   // the check's time and min_points mean the same at any resolution.
   int pixel_stride = 0;
-  // Depth readings outside this range are not used (same range as lifting).
-  double min_depth_m = 0.1;
-  double max_depth_m = 8.0;
+  // Depth readings outside the DepthModel's range are not used, nor pixels on its depth edges.
   // Agreement tolerance tau(d) = registration_tolerance_m + depth_noise_sigmas * sigma(d), with the
-  // axial depth noise sigma(d) = depth_noise_at_1m_m * d^2 of structured-light and ToF RGB-D
-  // sensors (Khoshelham & Elberink 2012: Kinect ~1.5 mm at 1 m, ~4 cm at 5 m). The 2 cm term is the
-  // residual misalignment a correct, refined estimate still has (the final ICP gate).
+  // DepthModel's axial noise sigma(d). The 2 cm term is the residual misalignment a correct,
+  // refined estimate still has (the final ICP gate).
   double registration_tolerance_m = 0.02;
-  double depth_noise_at_1m_m = 0.0015;
   double depth_noise_sigmas = 3.0;
   // The other camera's depth is read within this radius (pixels) around where a point lands: a
   // point agrees if any reading there agrees, and violates free space only if it lies in front of
   // all of them (silhouettes and a pixel of projection error are not violations).
   int neighbourhood_px = 2;
-  // A sampled pixel whose 4-neighbours at +-2 px differ in depth by more than this fraction is on a
-  // depth edge (mixed pixels lie in free space) and is not rendered.
-  double depth_edge_relative = 0.05;
+  // A sampled pixel whose 4-neighbours at +-2 px differ in depth by more than depth.edge_relative
+  // of its depth is on a depth edge (mixed pixels lie in free space) and is not rendered.
   // Decision. overlap = fraction of the sampled points of the scan that sees more of the other that
   // coincide with the other's surfaces (the smaller of the two directions' fractions).
   double min_overlap = 0.1;
@@ -726,6 +728,7 @@ struct ScaleConfig {
 };
 
 struct PipelineConfig {
+  DepthModel depth;
   FeatureConfig features;
   MatchConfig match;
   LiftConfig lift;

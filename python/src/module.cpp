@@ -990,7 +990,7 @@ PYBIND11_MODULE(_zeroreg, m) {
       py::arg("T"), py::arg("T_gt"));
 
   // How noisy a scan's depth is (src/estimate/depth_noise.hpp, docs/CONFIG.md "Depth noise"): the
-  // a of sigma(d) = a d^2 that verify/refine.depth_noise_at_1m_m assume, measured.
+  // a of sigma(d) = a d^2 that depth.noise_at_1m_m assumes, measured.
   m.def(
       "depth_noise_at_1m_m",
       [](const py::handle& scan) -> py::object {
@@ -1019,7 +1019,7 @@ PYBIND11_MODULE(_zeroreg, m) {
         VerificationResult v;
         {
           py::gil_scoped_release release;
-          v = VerifyRegistration(s, t, T_target_source, c.verify);
+          v = VerifyRegistration(s, t, T_target_source, c.verify, c.depth);
         }
         RegistrationResult r;
         r.verification = v;
@@ -1045,7 +1045,7 @@ PYBIND11_MODULE(_zeroreg, m) {
         {
           py::gil_scoped_release release;
           // The same geometry as the pipeline's refinement step.
-          const std::vector<IcpStage> stages = IcpSchedule(c.refine);
+          const std::vector<IcpStage> stages = IcpSchedule(c.refine, c.depth);
           icp = RefinePointToPlane(
               ScanIcpGeometry(s, stages, /*as_target=*/false, c.refine.pixel_stride),
               ScanIcpGeometry(t, stages, /*as_target=*/true, c.refine.pixel_stride), initial,

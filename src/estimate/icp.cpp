@@ -223,8 +223,8 @@ void RunStage(const IcpGeometry::Level& source_level, const IcpGeometry::Level& 
 
 }  // namespace
 
-std::vector<IcpStage> IcpSchedule(const RefineConfig& config) {
-  const double noise = config.depth_noise_at_1m_m, power = config.depth_noise_exponent;
+std::vector<IcpStage> IcpSchedule(const RefineConfig& config, const DepthModel& depth) {
+  const double noise = depth.noise_at_1m_m, power = depth.noise_exponent;
   return {{config.voxel_coarse_m, config.max_distance_coarse_m, config.coarse_iterations,
            config.anchor_weight_coarse, noise, power},
           {config.voxel_m, config.max_distance_m, config.max_iterations, config.anchor_weight_fine,

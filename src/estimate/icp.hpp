@@ -31,7 +31,7 @@ struct IcpStage {
   double anchor_weight = 0.0;
   // > 0: each closest-point pair weighs 1 / (sigma(d_s)^2 + sigma(d_t)^2), with the axial depth
   // noise sigma(d) = depth_noise_at_1m_m * d^depth_noise_exponent of its two depth readings
-  // (RefineConfig); 0: equal weights.
+  // (DepthModel); 0: equal weights.
   double depth_noise_at_1m_m = 0.0;
   double depth_noise_exponent = 2.0;
 };
@@ -44,8 +44,8 @@ struct IcpAnchors {
   std::vector<Eigen::Vector3d> source, target;  // parallel
 };
 
-// The coarse, fine and final stages of RefineConfig, in order.
-std::vector<IcpStage> IcpSchedule(const RefineConfig& config);
+// The coarse, fine and final stages of RefineConfig, in order, weighted by the depth model's noise.
+std::vector<IcpStage> IcpSchedule(const RefineConfig& config, const DepthModel& depth);
 
 // A scan's points thinned to each resolution of an ICP schedule, with normals and a k-d tree per
 // resolution: everything ICP needs of one scan, in either role (source: the thinned points; target:

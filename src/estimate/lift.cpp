@@ -7,34 +7,33 @@
 
 namespace zeroreg {
 
-LiftConfig LiftForView(const LiftConfig& lift, const View& view) {
-  return LiftForView(lift,
+ViewLift LiftForView(const LiftConfig& lift, const DepthModel& depth, const View& view) {
+  return LiftForView(lift, depth,
                      lift.edge_noise_sigmas > 0 ? MeasureDepthNoiseAt1m(view).value_or(0.0) : 0.0);
 }
 
-LiftConfig LiftForView(const LiftConfig& lift, double view_depth_noise_at_1m_m) {
-  LiftConfig out = lift;
-  out.view_depth_noise_at_1m_m = lift.edge_noise_sigmas > 0 ? view_depth_noise_at_1m_m : 0.0;
-  return out;
+ViewLift LiftForView(const LiftConfig& lift, const DepthModel& depth,
+                     double view_depth_noise_at_1m_m) {
+  return {depth, lift, lift.edge_noise_sigmas > 0 ? view_depth_noise_at_1m_m : 0.0};
 }
 
 std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f& pixel,
-                                         const LiftConfig& config) {
+                                         const ViewLift& how) {
   const int u = static_cast<int>(std::lround(pixel.x()));
   const int v = static_cast<int>(std::lround(pixel.y()));
   const cv::Mat& depth = view.depth;
   if (u < 0 || v < 0 || u >= depth.cols || v >= depth.rows) return std::nullopt;
   const float z = depth.at<float>(v, u);
-  if (!(z >= config.min_depth_m && z <= config.max_depth_m)) return std::nullopt;
+  if (!(z >= how.depth.min_m && z <= how.depth.max_m)) return std::nullopt;
   // Depth edge: a much nearer/farther reading within the radius means the pixel may belong to
   // either surface (and colour/depth misalignment makes that likely). Missing readings do not
   // count: HoloLens depth has a regular pattern of thin holes all over the image (data MANIFEST),
   // and treating every hole as an edge dropped most of its keypoints.
-  const int r = config.depth_edge_radius_px;
+  const int r = how.lift.depth_edge_radius_px;
   // The larger of the relative jump and the noise floor (LiftConfig::edge_noise_sigmas).
   const double noise_floor =
-      config.edge_noise_sigmas * std::sqrt(2.0) * config.view_depth_noise_at_1m_m * z * z;
-  const float tolerance = static_cast<float>(std::max(config.depth_edge_relative * z, noise_floor));
+      how.lift.edge_noise_sigmas * std::sqrt(2.0) * how.view_depth_noise_at_1m_m * z * z;
+  const float tolerance = static_cast<float>(std::max(how.depth.edge_relative * z, noise_floor));
   for (int y = std::max(0, v - r); y <= std::min(depth.rows - 1, v + r); ++y) {
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {

@@ -10,17 +10,27 @@
 
 namespace zeroreg {
 
-// `lift` for one view: its view_depth_noise_at_1m_m measured from the view's depth
-// (src/estimate/depth_noise.hpp), when edge_noise_sigmas is on.
-LiftConfig LiftForView(const LiftConfig& lift, const View& view);
+// How the pixels of one view are lifted: the depth model's range and edge rule, the lifting
+// settings, and the view's own depth noise.
+struct ViewLift {
+  DepthModel depth;
+  LiftConfig lift;
+  // a of the view's noise sigma(d) = a d^2 (metres at 1 m) measured from its depth
+  // (src/estimate/depth_noise.hpp); 0 = unknown or lift.edge_noise_sigmas off: no noise floor.
+  double view_depth_noise_at_1m_m = 0.0;
+};
+
+// The ViewLift of `view`, its noise measured from its depth when lift.edge_noise_sigmas is on.
+ViewLift LiftForView(const LiftConfig& lift, const DepthModel& depth, const View& view);
 // The same with the view's a already measured (0 = unknown), for callers that use it elsewhere too.
-LiftConfig LiftForView(const LiftConfig& lift, double view_depth_noise_at_1m_m);
+ViewLift LiftForView(const LiftConfig& lift, const DepthModel& depth,
+                     double view_depth_noise_at_1m_m);
 
 // Back-projects pixel (x, y) of `view` into the scan frame: X_cam = z K^-1 [x y 1]^T, then
-// T_scan_camera. Returns nullopt when the depth there is invalid, outside
-// [min_depth_m, max_depth_m], or on a depth edge (see LiftConfig).
+// T_scan_camera. Returns nullopt when the depth there is invalid, outside the depth model's
+// range, or on a depth edge (see LiftConfig).
 std::optional<Eigen::Vector3d> LiftPixel(const View& view, const Eigen::Vector2f& pixel,
-                                         const LiftConfig& config);
+                                         const ViewLift& how);
 
 // Back-projects every `stride`-th pixel (in x and y) whose depth lies in [min_depth_m,
 // max_depth_m] into the scan frame. With `camera_depth`, also appends each point's depth reading

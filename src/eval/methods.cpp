@@ -213,9 +213,10 @@ LiftedFeatures DetectAndLift(const FeatureBaselineConfig& c, const View& view) {
   cv::Mat descriptors;
   detector->detectAndCompute(gray, cv::noArray(), keypoints, descriptors);
   LiftedFeatures out;
+  const ViewLift lift = LiftForView(c.lift, c.depth, 0.0);  // no noise floor: no edge test
   for (size_t k = 0; k < keypoints.size(); ++k) {
     const Eigen::Vector2f pixel(keypoints[k].pt.x, keypoints[k].pt.y);
-    const auto point = LiftPixel(view, pixel, c.lift);
+    const auto point = LiftPixel(view, pixel, lift);
     if (!point) continue;  // invalid or out-of-range depth (or an edge, if the radius > 0)
     out.points.push_back(*point);
     out.pixels.push_back(pixel);
@@ -324,10 +325,10 @@ nlohmann::json FeatureBaselineConfigToJson(const FeatureBaselineConfig& c) {
           {"ratio", c.ratio},
           {"mutual", true},
           {"lift",
-           {{"min_depth_m", c.lift.min_depth_m},
-            {"max_depth_m", c.lift.max_depth_m},
+           {{"min_depth_m", c.depth.min_m},
+            {"max_depth_m", c.depth.max_m},
             {"depth_edge_radius_px", c.lift.depth_edge_radius_px},
-            {"depth_edge_relative", c.lift.depth_edge_relative}}},
+            {"depth_edge_relative", c.depth.edge_relative}}},
           {"ransac",
            {{"inlier_threshold_m", c.ransac.inlier_threshold_m},
             {"max_iterations", c.ransac.max_iterations},

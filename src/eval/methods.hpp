@@ -87,9 +87,10 @@ struct FeatureBaselineConfig {
   std::string detector = "sift";  // "sift" (cv::SIFT, L2) or "orb" (cv::ORB, Hamming)
   int max_features = 4096;        // per view (cv::SIFT nfeatures / cv::ORB nfeatures)
   double ratio = 0.8;             // Lowe ratio, applied source->target and target->source
-  // Keypoints are lifted with LiftPixel: depth valid and in [min_depth_m, max_depth_m]. No
+  // Keypoints are lifted with LiftPixel: depth valid and in the depth model's range. No
   // depth-edge test (radius 0), as a user's baseline would do: on HoloLens depth with 22-45 %
   // holes the pipeline's 4 px test drops most keypoints (docs/EVAL.md).
+  DepthModel depth;
   LiftConfig lift = NoEdgeTest();
   // EstimateRigidRansac with these settings (inlier threshold 5 cm, refit on the inliers).
   RansacConfig ransac;

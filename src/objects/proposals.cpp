@@ -68,7 +68,7 @@ Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask) {
   return norm > 0 ? Eigen::VectorXd(histogram / norm) : histogram;
 }
 
-void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const LiftConfig& lift,
+void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const ViewLift& lift,
                         std::vector<ObjectObservation>* found) {
   if (objects.proposals_below <= 0) return;
   int usable = 0;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "estimate/lift.hpp"
 #include "objects/scene_objects.hpp"
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
@@ -37,7 +38,7 @@ Eigen::VectorXd ColourHistogram(const cv::Mat& bgr, const cv::Mat& mask);
 // lift to at least objects.min_points points, appends the view's DepthProposals that lie at most
 // half inside the detections' masks (label "object"; masks and boxes as DepthProposals makes
 // them). Does nothing when proposals_below is 0.
-void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const LiftConfig& lift,
+void TopUpWithProposals(const View& view, const ObjectsConfig& objects, const ViewLift& lift,
                         std::vector<ObjectObservation>* found);
 
 }  // namespace zeroreg

@@ -71,7 +71,7 @@ int Find(std::vector<int>& parent, int i) {
 }  // namespace
 
 std::vector<Eigen::Vector3d> LiftMask(const View& view, const cv::Mat& mask,
-                                      const ObjectsConfig& objects, const LiftConfig& lift) {
+                                      const ObjectsConfig& objects, const ViewLift& lift) {
   std::vector<Eigen::Vector3d> points;
   const int stride = PixelGrid{objects.pixel_stride}.StrideFor(mask.cols);
   for (int y = stride / 2; y < mask.rows; y += stride) {

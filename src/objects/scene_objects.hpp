@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "detect/detector.hpp"
+#include "estimate/lift.hpp"
 #include "objects/appearance.hpp"
 #include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
@@ -47,7 +48,7 @@ struct SceneObjects {
 // Back-projects the mask pixels on a grid of stride `config.pixel_stride` that have usable depth
 // (LiftPixel: valid, not on a depth edge).
 std::vector<Eigen::Vector3d> LiftMask(const View& view, const cv::Mat& mask,
-                                      const ObjectsConfig& objects, const LiftConfig& lift);
+                                      const ObjectsConfig& objects, const ViewLift& lift);
 
 // Associates the observations of a scan with `num_views` views into objects (see file comment).
 // Two observations may merge only when, besides label and overlap, their appearance descriptors

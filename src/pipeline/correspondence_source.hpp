@@ -23,9 +23,9 @@ namespace zeroreg {
 // Everything a source perceived in one scan. Immutable once made; shared read-only by the pairs.
 struct PerceivedScan {
   std::vector<LiftedFeatures> view_features;  // per view, keypoints with usable depth
-  std::vector<LiftConfig> view_lifts;  // per view, how its keypoints were lifted (LiftForView)
-  int num_keypoints = 0;               // CountKeypoints(view_features)
-  SceneObjects objects;                // object sources only (§3.2)
+  std::vector<ViewLift> view_lifts;  // per view, how its keypoints were lifted (LiftForView)
+  int num_keypoints = 0;             // CountKeypoints(view_features)
+  SceneObjects objects;              // object sources only (§3.2)
   // Per observation of `objects`: the rows of its view's features whose keypoint lies inside its
   // mask (the candidates of §3.4's point matching).
   std::vector<std::vector<int>> observation_rows;

@@ -44,7 +44,7 @@ ImageFeatures ExtractTurned(const FeatureExtractor& extractor, const cv::Mat& bg
 }  // namespace
 
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
-                                     const LiftConfig& lift, int quarter_turns) {
+                                     const ViewLift& lift, int quarter_turns) {
   const ImageFeatures all = ExtractTurned(extractor, view.color, quarter_turns);
   // Keypoints without usable depth cannot give a 3D correspondence; dropping them before matching
   // also keeps them from stealing a mutual nearest neighbour from a usable keypoint.
@@ -189,7 +189,7 @@ int SummedOverlapScore(const std::vector<LiftedFeatures>& source,
 }  // namespace
 
 TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Scan& scan,
-                                     const std::vector<LiftConfig>& lifts) {
+                                     const std::vector<ViewLift>& lifts) {
   TurnedFeatures out;
   for (int q = 1; q <= 3; ++q) {
     for (size_t v = 0; v < scan.views.size(); ++v) {

@@ -22,7 +22,7 @@ struct LiftedFeatures {
 // that many quarter turns, and their keypoints mapped back to the view's own pixels, so the 3D
 // points are the same as unturned (why: HypothesesConfig::turned_images).
 LiftedFeatures ExtractLiftedFeatures(const FeatureExtractor& extractor, const View& view,
-                                     const LiftConfig& lift, int quarter_turns = 0);
+                                     const ViewLift& lift, int quarter_turns = 0);
 
 // Usable keypoints over all the views (what the result reports as keypoints_source/target).
 int CountKeypoints(const std::vector<LiftedFeatures>& views);
@@ -68,7 +68,7 @@ void MatchWholeImages(const std::vector<LiftedFeatures>& source,
 // (index 0-2), per view, keypoints in the views' own pixels: they depend on the scan alone.
 using TurnedFeatures = std::array<std::vector<LiftedFeatures>, 3>;
 TurnedFeatures ExtractTurnedFeatures(const FeatureExtractor& extractor, const Scan& scan,
-                                     const std::vector<LiftConfig>& lifts);
+                                     const std::vector<ViewLift>& lifts);
 
 // Each turn of the source scored by its summed ViewOverlapScore against the target's views (the
 // view pairs `view_pairs` allows, before its max_pairs cut), and only the best-scoring turn

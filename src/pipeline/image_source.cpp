@@ -6,7 +6,7 @@ PerceivedScan ImageCorrespondenceSource::Perceive(const Scan& scan, StageTimer& 
   PerceivedScan out;
   timer.Restart();
   for (const View& view : scan.views) {
-    out.view_lifts.push_back(LiftForView(lift_, view));
+    out.view_lifts.push_back(LiftForView(lift_, depth_, view));
     out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, out.view_lifts.back()));
   }
   out.num_keypoints = CountKeypoints(out.view_features);

@@ -10,11 +10,12 @@ namespace zeroreg {
 class ImageCorrespondenceSource : public CorrespondenceSource {
  public:
   ImageCorrespondenceSource(const FeatureExtractor& extractor, const DescriptorMatcher& matcher,
-                            const LiftConfig& lift, const WholeImageViewPairs& view_pairs,
-                            int threads)
+                            const LiftConfig& lift, const DepthModel& depth,
+                            const WholeImageViewPairs& view_pairs, int threads)
       : extractor_(extractor),
         matcher_(matcher),
         lift_(lift),
+        depth_(depth),
         view_pairs_(view_pairs),
         threads_(threads) {}
   PathSource path() const override { return PathSource::kImage; }
@@ -27,6 +28,7 @@ class ImageCorrespondenceSource : public CorrespondenceSource {
   const FeatureExtractor& extractor_;
   const DescriptorMatcher& matcher_;
   LiftConfig lift_;
+  DepthModel depth_;
   WholeImageViewPairs view_pairs_;
   int threads_;  // PipelineConfig::threads
 };

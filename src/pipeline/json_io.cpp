@@ -86,11 +86,16 @@ void Visit(V& v, MatchConfig& c) {
   v.Section("sinkhorn", c.sinkhorn);
 }
 template <typename V>
+void Visit(V& v, DepthModel& c) {
+  v("min_m", c.min_m, AtLeast(0));
+  v("max_m", c.max_m, Positive());
+  v("edge_relative", c.edge_relative, Positive());
+  v("noise_at_1m_m", c.noise_at_1m_m, AtLeast(0));
+  v("noise_exponent", c.noise_exponent, AtLeast(0));
+}
+template <typename V>
 void Visit(V& v, LiftConfig& c) {
-  v("min_depth_m", c.min_depth_m, AtLeast(0));
-  v("max_depth_m", c.max_depth_m, Positive());
   v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
-  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("edge_noise_sigmas", c.edge_noise_sigmas, AtLeast(0));
 }
 template <typename V>
@@ -111,13 +116,9 @@ template <typename V>
 void Visit(V& v, VerifyConfig& c) {
   v("enabled", c.enabled);
   v("pixel_stride", c.pixel_stride, AtLeast(0));
-  v("min_depth_m", c.min_depth_m, AtLeast(0));
-  v("max_depth_m", c.max_depth_m, Positive());
   v("registration_tolerance_m", c.registration_tolerance_m, Positive());
-  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0));
   v("depth_noise_sigmas", c.depth_noise_sigmas, AtLeast(0));
   v("neighbourhood_px", c.neighbourhood_px, AtLeast(0));
-  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("min_overlap", c.min_overlap, Fraction());
   v("max_violation", c.max_violation, Fraction());
   v("probe_translation_m", c.probe_translation_m, AtLeast(0));
@@ -136,8 +137,6 @@ void Visit(V& v, RefineConfig& c) {
   v("max_distance_final_m", c.max_distance_final_m, Positive());
   v("anchor_weight_coarse", c.anchor_weight_coarse, AtLeast(0));
   v("anchor_weight_fine", c.anchor_weight_fine, AtLeast(0));
-  v("depth_noise_at_1m_m", c.depth_noise_at_1m_m, AtLeast(0.0));
-  v("depth_noise_exponent", c.depth_noise_exponent, AtLeast(0.0));
   v("min_kept_inlier_fraction", c.min_kept_inlier_fraction, Fraction());
   v("max_iterations", c.max_iterations, Iterations(0, 1000));
 }
@@ -161,7 +160,6 @@ void Visit(V& v, SegmenterConfig& c) {
   v("depth_band_size_factor", c.depth_band_size_factor, AtLeast(0));
   v("focal_length_fraction", c.focal_length_fraction, Positive());
   v("depth_edge_radius_px", c.depth_edge_radius_px, AtLeast(0));
-  v("depth_edge_relative", c.depth_edge_relative, AtLeast(0));
   v("min_hole_width_px", c.min_hole_width_px, AtLeast(1));
   v("depth_noise_sigmas", c.depth_noise_sigmas, AtLeast(0));
   v("erosion_px", c.erosion_px, AtLeast(0));
@@ -267,6 +265,7 @@ void Visit(V& v, ScaleConfig& c) {
 }
 template <typename V>
 void Visit(V& v, PipelineConfig& c) {
+  v.Section("depth", c.depth);
   v.Section("method", c.method);
   v.Section("features", c.features);
   v.Section("match", c.match);
@@ -313,6 +312,13 @@ class JsonWriter {
 // zeroreg is refused with this instead of the list of known keys. Each brought back a behaviour
 // the default had replaced (docs/CONFIG.md, "Removed settings"), or was a second seed the
 // pipeline overwrote with `seed`.
+constexpr const char* kMovedToDepthRange =
+    "moved: every stage reads one depth range, depth.min_m and depth.max_m";
+constexpr const char* kMovedToDepthEdge =
+    "moved: every stage reads one depth-edge rule, depth.edge_relative";
+constexpr const char* kMovedToDepthNoise =
+    "moved: the check and ICP read one noise model, depth.noise_at_1m_m and "
+    "depth.noise_exponent";
 const char* RemovedKey(const std::string& key) {
   static const std::map<std::string, const char*> kRemoved = {
       {"features.xfeat_keep_aspect",
@@ -334,6 +340,17 @@ const char* RemovedKey(const std::string& key) {
       {"object_match.seed",
        "was removed: use the top-level \"seed\", which every random step reads"},
       {"segmenter.seed", "was removed: use the top-level \"seed\", which every random step reads"},
+      // One depth model for every stage (DepthModel), where each stage had its own copy.
+      {"lift.min_depth_m", kMovedToDepthRange},
+      {"lift.max_depth_m", kMovedToDepthRange},
+      {"verify.min_depth_m", kMovedToDepthRange},
+      {"verify.max_depth_m", kMovedToDepthRange},
+      {"lift.depth_edge_relative", kMovedToDepthEdge},
+      {"segmenter.depth_edge_relative", kMovedToDepthEdge},
+      {"verify.depth_edge_relative", kMovedToDepthEdge},
+      {"verify.depth_noise_at_1m_m", kMovedToDepthNoise},
+      {"refine.depth_noise_at_1m_m", kMovedToDepthNoise},
+      {"refine.depth_noise_exponent", kMovedToDepthNoise},
   };
   const auto it = kRemoved.find(key);
   return it == kRemoved.end() ? nullptr : it->second;
@@ -487,15 +504,10 @@ void CheckRelations(const PipelineConfig& c, const std::string& where) {
                                     ") must not exceed scale.room_max_m (" +
                                     FormatNumber(c.scale.room_max_m) + ")");
   }
-  if (!(c.lift.min_depth_m < c.lift.max_depth_m)) {
-    throw MakeInputError(where, "lift.min_depth_m (" + FormatNumber(c.lift.min_depth_m) +
-                                    ") must be below lift.max_depth_m (" +
-                                    FormatNumber(c.lift.max_depth_m) + ")");
-  }
-  if (!(c.verify.min_depth_m < c.verify.max_depth_m)) {
-    throw MakeInputError(where, "verify.min_depth_m (" + FormatNumber(c.verify.min_depth_m) +
-                                    ") must be below verify.max_depth_m (" +
-                                    FormatNumber(c.verify.max_depth_m) + ")");
+  if (!(c.depth.min_m < c.depth.max_m)) {
+    throw MakeInputError(where, "depth.min_m (" + FormatNumber(c.depth.min_m) +
+                                    ") must be below depth.max_m (" + FormatNumber(c.depth.max_m) +
+                                    ")");
   }
 }
 

@@ -239,7 +239,7 @@ void Judge::Check(const PipelineConfig& config, const std::string& name,
   if (!config.verify.enabled) return;
   const bool evidence = r->count_test_passed;
   r->verification = VerifyRegistration(source_.scan, source_.surface, target_.scan, target_.surface,
-                                       r->T_target_source, config.verify);
+                                       r->T_target_source, config.verify, config.depth);
   r->candidates.push_back(
       {name, r->T_target_source, r->verification.score, evidence && r->verification.passed, false});
   if (!evidence) return;  // the count reason stands
@@ -265,7 +265,7 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
   // Where the check found the geometry degenerate, the correspondences are what fixes the open
   // motion, so they hold every stage: fitting depth alone, the fine stages slid a wall-and-floor
   // pair 68 cm along it.
-  std::vector<IcpStage> stages = IcpSchedule(config);
+  std::vector<IcpStage> stages = IcpSchedule(config, pipeline.depth);
   if (r->verification.degenerate) {
     for (IcpStage& stage : stages) {
       stage.anchor_weight = std::max(stage.anchor_weight, config.anchor_weight_coarse);
@@ -282,7 +282,7 @@ void Judge::Refine(const PipelineConfig& pipeline, RegistrationResult* r, KeptEv
   if (pipeline.verify.enabled) {
     refined.verification =
         VerifyRegistration(source_.scan, source_.surface, target_.scan, target_.surface,
-                           refined.T_target_source, pipeline.verify);
+                           refined.T_target_source, pipeline.verify, pipeline.depth);
     refined.candidates.push_back({PathName(r->path) + " icp", refined.T_target_source,
                                   refined.verification.score, refined.verification.passed, false});
     r->candidates = refined.candidates;

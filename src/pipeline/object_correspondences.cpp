@@ -174,7 +174,7 @@ PerceivedScan ObjectCorrespondenceSource::Perceive(const Scan& scan, StageTimer&
         config_.lift.edge_noise_sigmas > 0 || config_.segmenter.depth_noise_sigmas > 0;
     const double depth_noise_at_1m_m =
         noise_needed ? MeasureDepthNoiseAt1m(view).value_or(0.0) : 0.0;
-    const LiftConfig lift = LiftForView(config_.lift, depth_noise_at_1m_m);
+    const ViewLift lift = LiftForView(config_.lift, config_.depth, depth_noise_at_1m_m);
     out.view_features.push_back(ExtractLiftedFeatures(extractor_, view, lift));
     out.view_lifts.push_back(lift);
     timer.Mark("features");

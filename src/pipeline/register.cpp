@@ -183,9 +183,9 @@ struct Pipeline::Impl {
     // at the images.
     const auto geometry = [&] {
       geometry_timer.Restart();
-      if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify);
+      if (config.verify.enabled) p->surface = SampleSurface(scan, config.verify, config.depth);
       if (config.refine.enabled) {
-        p->icp = ScanIcpGeometry(scan, IcpSchedule(config.refine), as_target,
+        p->icp = ScanIcpGeometry(scan, IcpSchedule(config.refine, config.depth), as_target,
                                  config.refine.pixel_stride);
       }
       geometry_timer.Mark("geometry");
@@ -253,7 +253,7 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
   if (!config.method.object_level) {
     load_features();
     m.correspondence_source = std::make_unique<ImageCorrespondenceSource>(
-        *m.extractor, *m.matcher, config.lift, WholeImageViewPairsOf(config.method),
+        *m.extractor, *m.matcher, config.lift, config.depth, WholeImageViewPairsOf(config.method),
         config.threads);
     return;
   }
@@ -261,7 +261,8 @@ Pipeline::Pipeline(const PipelineConfig& config) : impl_(std::make_unique<Impl>(
     m.detector = MakeDetector(config.detector,
                               ResolveDetectorModels(config.detector, config.inference, assets),
                               config.inference);
-    m.segmenter = MakeSegmenter(config.segmenter, assets, config.inference, config.seed);
+    m.segmenter =
+        MakeSegmenter(config.segmenter, assets, config.inference, config.seed, config.depth);
     if (config.method.clip) m.embedder = MakeTextEmbedder(config.semantics, assets);
   };
   // The model files are independent: the feature extractor is verified and loaded on a second

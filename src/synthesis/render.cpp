@@ -8,10 +8,10 @@
 namespace zeroreg {
 namespace {
 
-bool InRange(float z, const RenderConfig& c) { return z >= c.min_depth_m && z <= c.max_depth_m; }
+bool InRange(float z, const RenderConfig& c) { return z >= c.depth.min_m && z <= c.depth.max_m; }
 
 bool Agree(float a, float b, const RenderConfig& c) {
-  return std::abs(a - b) <= c.max_depth_jump_relative * std::min(a, b);
+  return std::abs(a - b) <= c.depth.edge_relative * std::min(a, b);
 }
 
 // One mesh vertex seen from the virtual camera.

@@ -8,20 +8,19 @@
 
 #include <opencv2/core.hpp>
 
+#include "zeroreg/config.hpp"
 #include "zeroreg/types.hpp"
 
 namespace zeroreg {
 
 struct RenderConfig {
-  // A mesh triangle is drawn only where the depth of its three corners differs by at most this
-  // fraction of the nearest one: larger jumps are occlusion edges, not surface, and bridging them
-  // would paint a wall between a chair and the floor behind it.
-  double max_depth_jump_relative = 0.05;
-  // Depth readings outside [min_depth_m, max_depth_m] are not surface (LiftConfig's range).
-  double min_depth_m = 0.1;
-  double max_depth_m = 8.0;
+  // Depth readings outside the model's range are not surface, and a mesh triangle is drawn only
+  // where the depth of its three corners differs by at most depth.edge_relative of the nearest
+  // one: larger jumps are occlusion edges, not surface, and bridging them would paint a wall
+  // between a chair and the floor behind it.
+  DepthModel depth;
   // An invalid pixel whose nearest valid readings on both sides, along the row or the column,
-  // are at most this many pixels away and agree (max_depth_jump_relative) is filled by linear
+  // are at most this many pixels away and agree (depth.edge_relative) is filled by linear
   // interpolation before meshing. HoloLens depth has a regular pattern of one- or two-pixel line
   // holes over the whole image; left open, each becomes a black crack in the rendering whose
   // edges the feature extractor takes for corners. 0 = no filling. Larger holes stay holes.

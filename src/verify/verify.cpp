@@ -34,16 +34,22 @@ Eigen::Vector3d CameraPoint(const Intrinsics& K, double x, double y, double z) {
   return {(x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z};
 }
 
-double Tolerance(const VerifyConfig& c, double d) {
-  return c.registration_tolerance_m + c.depth_noise_sigmas * c.depth_noise_at_1m_m * d * d;
+double Tolerance(const VerifyConfig& c, const DepthModel& depth, double d) {
+  // d * d for the structured-light exponent 2: the hot path, and the sum rounds as it always did.
+  if (depth.noise_exponent == 2.0) {
+    return c.registration_tolerance_m + c.depth_noise_sigmas * depth.noise_at_1m_m * d * d;
+  }
+  return c.registration_tolerance_m +
+         c.depth_noise_sigmas * depth.noise_at_1m_m * std::pow(d, depth.noise_exponent);
 }
 
 enum class Evidence { kNone, kOccluded, kViolate, kAgree };
 
 // Where point p (camera frame of `view`) lands in the view's depth image, and what it says.
 Evidence Classify(const View& view, const Eigen::Vector3d& p, const VerifyConfig& c,
-                  double* residual, double* tolerance, cv::Point* pixel = nullptr) {
-  if (p.z() <= c.min_depth_m) return Evidence::kNone;
+                  const DepthModel& depth_model, double* residual, double* tolerance,
+                  cv::Point* pixel = nullptr) {
+  if (p.z() <= depth_model.min_m) return Evidence::kNone;
   const Intrinsics& K = view.intrinsics;
   const int u = static_cast<int>(std::lround(K.fx * p.x() / p.z() + K.cx));
   const int v = static_cast<int>(std::lround(K.fy * p.y() / p.z() + K.cy));
@@ -58,11 +64,11 @@ Evidence Classify(const View& view, const Eigen::Vector3d& p, const VerifyConfig
     const float* row = depth.ptr<float>(y);
     for (int x = std::max(0, u - r); x <= std::min(depth.cols - 1, u + r); ++x) {
       const double d = row[x];
-      if (!(d >= c.min_depth_m && d <= c.max_depth_m)) {
+      if (!(d >= depth_model.min_m && d <= depth_model.max_m)) {
         all_valid = false;
         continue;
       }
-      const double tau = Tolerance(c, d);
+      const double tau = Tolerance(c, depth_model, d);
       const double e = std::abs(p.z() - d);
       if (e / tau < best_ratio) {
         best_ratio = e / tau;
@@ -71,7 +77,7 @@ Evidence Classify(const View& view, const Eigen::Vector3d& p, const VerifyConfig
       nearest_front = std::min(nearest_front, d - tau);
     }
   }
-  const bool centre_valid = centre >= c.min_depth_m && centre <= c.max_depth_m;
+  const bool centre_valid = centre >= depth_model.min_m && centre <= depth_model.max_m;
   if (best_ratio <= 1.0) {
     // The residual that scores the agreement is the one at the landing pixel itself (capped at
     // the tolerance): the neighbourhood decides agreement, but would hide a misalignment of a
@@ -100,7 +106,8 @@ float GrayAt(const View& view, int x, int y) {
 // `gray_pairs`: for each agreeing point with colour in both scans, (A's grey, B's grey where it
 // lands).
 RenderTally Render(const std::vector<SurfacePoint>& points_in_b, const Scan& b,
-                   const VerifyConfig& c, std::vector<Evidence>* evidence = nullptr,
+                   const VerifyConfig& c, const DepthModel& depth_model,
+                   std::vector<Evidence>* evidence = nullptr,
                    std::vector<std::pair<float, float>>* gray_pairs = nullptr) {
   RenderTally tally;
   if (evidence) evidence->clear();
@@ -116,7 +123,7 @@ RenderTally Render(const std::vector<SurfacePoint>& points_in_b, const Scan& b,
       const Eigen::Vector3d p = (T_camera_scan[k] * s.point.homogeneous()).head<3>();
       double r = 0, tau = 1;
       cv::Point pixel;
-      const Evidence e = Classify(b.views[k], p, c, &r, &tau, &pixel);
+      const Evidence e = Classify(b.views[k], p, c, depth_model, &r, &tau, &pixel);
       if (static_cast<int>(e) > static_cast<int>(strongest)) {
         strongest = e;
         residual = r;
@@ -246,7 +253,8 @@ double RankCorrelation(const std::vector<std::pair<float, float>>& pairs) {
 }  // namespace
 
 // The normal comes from the 4-neighbours 2 px away (the same neighbours that decide the edge test).
-std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config) {
+std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config,
+                                        const DepthModel& depth_model) {
   std::vector<SurfacePoint> out;
   constexpr int kStep = 2;
   for (const View& view : scan.views) {
@@ -258,10 +266,10 @@ std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& co
     for (int y = kStep; y + kStep < depth.rows; y += stride) {
       for (int x = kStep; x + kStep < depth.cols; x += stride) {
         const double z = depth.at<float>(y, x);
-        if (!(z >= config.min_depth_m && z <= config.max_depth_m)) continue;
+        if (!(z >= depth_model.min_m && z <= depth_model.max_m)) continue;
         const double left = depth.at<float>(y, x - kStep), right = depth.at<float>(y, x + kStep);
         const double up = depth.at<float>(y - kStep, x), down = depth.at<float>(y + kStep, x);
-        const double limit = config.depth_edge_relative * z;
+        const double limit = depth_model.edge_relative * z;
         bool edge = false;
         for (double n : {left, right, up, down}) edge |= !(n > 0) || std::abs(n - z) > limit;
         if (edge) continue;
@@ -280,18 +288,18 @@ std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& co
 }
 
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
-                                      const Transform& T_target_source,
-                                      const VerifyConfig& config) {
-  return VerifyRegistration(source, SampleSurface(source, config), target,
-                            SampleSurface(target, config), T_target_source, config);
+                                      const Transform& T_target_source, const VerifyConfig& config,
+                                      const DepthModel& depth) {
+  return VerifyRegistration(source, SampleSurface(source, config, depth), target,
+                            SampleSurface(target, config, depth), T_target_source, config, depth);
 }
 
 VerificationResult VerifyRegistration(const Scan& source,
                                       const std::vector<SurfacePoint>& source_points,
                                       const Scan& target,
                                       const std::vector<SurfacePoint>& target_points,
-                                      const Transform& T_target_source,
-                                      const VerifyConfig& config) {
+                                      const Transform& T_target_source, const VerifyConfig& config,
+                                      const DepthModel& depth) {
   VerificationResult v;
   v.ran = true;
   v.source_samples = static_cast<int>(source_points.size());
@@ -310,10 +318,10 @@ VerificationResult VerifyRegistration(const Scan& source,
   const std::vector<SurfacePoint> moved_source = Moved(source_points, T_target_source);
   std::vector<Evidence> at_estimate;
   std::vector<std::pair<float, float>> gray_pairs;  // (source grey, target grey)
-  const RenderTally st = Render(moved_source, target, config, &at_estimate, &gray_pairs);
+  const RenderTally st = Render(moved_source, target, config, depth, &at_estimate, &gray_pairs);
   std::vector<std::pair<float, float>> gray_pairs_back;  // (target grey, source grey)
   const RenderTally ts = Render(Moved(target_points, T_target_source.inverse()), source, config,
-                                nullptr, &gray_pairs_back);
+                                depth, nullptr, &gray_pairs_back);
   for (const auto& [t, s] : gray_pairs_back) gray_pairs.emplace_back(s, t);
   v.brightness_rank_correlation = RankCorrelation(gray_pairs);
   const GeometricAgreement g = Summarise(st, ts);
@@ -337,7 +345,7 @@ VerificationResult VerifyRegistration(const Scan& source,
     const Transform delta = WeakestMotion(agreeing, config.probe_translation_m);
     for (const Transform& step : {delta, Transform(delta.inverse())}) {
       std::vector<Evidence> probed;
-      Render(Moved(agreeing, step), target, config, &probed);
+      Render(Moved(agreeing, step), target, config, depth, &probed);
       const auto contradicted = std::count_if(probed.begin(), probed.end(), [](Evidence e) {
         return e == Evidence::kViolate || e == Evidence::kOccluded;
       });
@@ -383,15 +391,16 @@ VerificationResult VerifyRegistration(const Scan& source,
 
 std::vector<VerificationSample> VerificationSamples(const Scan& source, const Scan& target,
                                                     const Transform& T_target_source,
-                                                    const VerifyConfig& config, int view) {
+                                                    const VerifyConfig& config,
+                                                    const DepthModel& depth, int view) {
   std::vector<VerificationSample> out;
   if (view < 0 || view >= static_cast<int>(target.views.size())) return out;
   const View& tv = target.views[view];
   const Transform T = tv.T_scan_camera.inverse() * T_target_source;
-  for (const SurfacePoint& s : SampleSurface(source, config)) {
+  for (const SurfacePoint& s : SampleSurface(source, config, depth)) {
     const Eigen::Vector3d p = (T * s.point.homogeneous()).head<3>();
     double r = 0, tau = 1;
-    const Evidence e = Classify(tv, p, config, &r, &tau);
+    const Evidence e = Classify(tv, p, config, depth, &r, &tau);
     if (e == Evidence::kNone) continue;
     VerificationSample sample;
     sample.x = static_cast<float>(tv.intrinsics.fx * p.x() / p.z() + tv.intrinsics.cx);

@@ -8,7 +8,8 @@
 //                          through (a wrong transform puts surfaces there)
 //   z > d + tau(d)         occluded: no evidence either way
 //   outside / no depth     no evidence
-// with tau(d) = registration_tolerance_m + depth_noise_sigmas * depth_noise_at_1m_m * d^2.
+// with tau(d) = registration_tolerance_m + depth_noise_sigmas * sigma(d), sigma the DepthModel's
+// axial noise; depth outside the DepthModel's range is no reading.
 // A correct transform makes most of the overlap agree and leaves almost nothing in free space;
 // a wrong one that happens to align one plane (a textured floor) puts the rest of the scene in
 // front of the other camera's surfaces. Correspondence counts are evidence, not the decision.
@@ -35,7 +36,8 @@ struct SurfacePoint {
 // Every config.pixel_stride-th valid depth pixel of every view of `scan`, off depth edges, with a
 // normal: the samples one scan contributes to every check it is in (computed once per scan by
 // Pipeline::Prepare, not once per candidate).
-std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config);
+std::vector<SurfacePoint> SampleSurface(const Scan& scan, const VerifyConfig& config,
+                                        const DepthModel& depth);
 
 // Renders both scans into each other under T_target_source (see the file comment), runs the
 // degeneracy probe and applies the thresholds of VerifyConfig (types.hpp documents the fields).
@@ -44,10 +46,12 @@ VerificationResult VerifyRegistration(const Scan& source,
                                       const std::vector<SurfacePoint>& source_samples,
                                       const Scan& target,
                                       const std::vector<SurfacePoint>& target_samples,
-                                      const Transform& T_target_source, const VerifyConfig& config);
+                                      const Transform& T_target_source, const VerifyConfig& config,
+                                      const DepthModel& depth);
 // The same, sampling both scans first.
 VerificationResult VerifyRegistration(const Scan& source, const Scan& target,
-                                      const Transform& T_target_source, const VerifyConfig& config);
+                                      const Transform& T_target_source, const VerifyConfig& config,
+                                      const DepthModel& depth);
 
 // What one source sample says in one target view, for the verification picture.
 struct VerificationSample {
@@ -58,6 +62,7 @@ struct VerificationSample {
 // `view` under T_target_source with some evidence, in sampling order.
 std::vector<VerificationSample> VerificationSamples(const Scan& source, const Scan& target,
                                                     const Transform& T_target_source,
-                                                    const VerifyConfig& config, int view);
+                                                    const VerifyConfig& config,
+                                                    const DepthModel& depth, int view);
 
 }  // namespace zeroreg

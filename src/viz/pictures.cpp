@@ -196,7 +196,7 @@ cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
 }
 
 cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
-                         const VerifyConfig& config, int view) {
+                         const VerifyConfig& config, const DepthModel& depth, int view) {
   const View& tv = target.views[view];
   cv::Mat grey, canvas;
   cv::cvtColor(tv.color, grey, cv::COLOR_BGR2GRAY);
@@ -204,7 +204,7 @@ cv::Mat DrawVerification(const Scan& source, const Scan& target, const Registrat
   const cv::Scalar colours[] = {cv::Scalar(60, 200, 60), cv::Scalar(40, 40, 230),
                                 cv::Scalar(40, 210, 230)};  // agree, violate, occluded (BGR)
   for (const VerificationSample& s :
-       VerificationSamples(source, target, result.T_target_source, config, view)) {
+       VerificationSamples(source, target, result.T_target_source, config, depth, view)) {
     cv::circle(canvas,
                cv::Point(static_cast<int>(std::lround(s.x)), static_cast<int>(std::lround(s.y))), 1,
                colours[s.kind], cv::FILLED);
@@ -301,7 +301,8 @@ bool IsRegistrationPictureName(const std::string& file_name) {
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
                                                    const RegistrationResult& result,
-                                                   const VerifyConfig& verify) {
+                                                   const VerifyConfig& verify,
+                                                   const DepthModel& depth) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw MakeInputError(dir, "cannot create the picture folder (" + ec.message() + ")");
@@ -338,7 +339,7 @@ std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const
   }
   for (size_t v = 0; v < target.views.size(); ++v) {
     write("verification-view" + std::to_string(v) + ".png",
-          DrawVerification(source, target, result, verify, static_cast<int>(v)));
+          DrawVerification(source, target, result, verify, depth, static_cast<int>(v)));
   }
   if (result.rendered_view && result.rendered_view->source_view >= 0 &&
       result.rendered_view->source_view < static_cast<int>(source.views.size())) {

@@ -39,7 +39,7 @@ cv::Mat DrawCorrespondences(const Scan& source, const Scan& target,
 cv::Mat DrawRegisteredClouds(const Scan& source, const Scan& target,
                              const Transform& T_target_source, int view);
 cv::Mat DrawVerification(const Scan& source, const Scan& target, const RegistrationResult& result,
-                         const VerifyConfig& config, int view);
+                         const VerifyConfig& config, const DepthModel& depth, int view);
 
 // The source view beside the target rendered into result.rendered_view's virtual camera, with
 // the correspondences between them (RANSAC inliers green, outliers red); empty without one.
@@ -62,10 +62,11 @@ bool IsRegistrationPictureName(const std::string& file_name);
 // file paths. Pictures of an earlier run in `dir` (IsRegistrationPictureName) are removed first, so
 // that the folder shows this result only; other files are left alone. Throws InputError if the
 // folder cannot be written.
-// `verify` is the check's config (the pipeline's effective `verify` section).
+// `verify` and `depth` are the check's config (the pipeline's effective `verify` and `depth`).
 std::vector<std::string> WriteRegistrationPictures(const std::string& dir, const Scan& source,
                                                    const Scan& target,
                                                    const RegistrationResult& result,
-                                                   const VerifyConfig& verify = VerifyConfig());
+                                                   const VerifyConfig& verify = {},
+                                                   const DepthModel& depth = {});
 
 }  // namespace zeroreg

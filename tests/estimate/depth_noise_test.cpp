@@ -51,7 +51,7 @@ TEST(DepthNoise, KinectFramesMeasureAboutOneAndAHalfMillimetres) {
 // ICP samples every other pixel of quiet depth and every 4th of noisy depth (at 640 px wide);
 // an explicit refine.pixel_stride is used whatever the noise.
 TEST(DepthNoise, IcpSamplesNoisyDepthOnTheSparserGrid) {
-  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig());
+  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig(), DepthModel());
   const double voxel = RefineConfig().voxel_m;
   const auto points = [&](double noise, int stride) {
     Scan scan;
@@ -67,10 +67,10 @@ TEST(DepthNoise, IcpSamplesNoisyDepthOnTheSparserGrid) {
 // edges, real depth jumps (the box 0.5 m in front of the wall) still do.
 TEST(DepthNoise, LiftingIgnoresNoiseButNotRealEdges) {
   const View view = NoisyWall(0.01, 5);
-  const LiftConfig plain;
-  const LiftConfig measured = LiftForView(plain, view);
+  const ViewLift plain;
+  const ViewLift measured = LiftForView(LiftConfig(), DepthModel(), view);
   EXPECT_NEAR(measured.view_depth_noise_at_1m_m, 0.01, 0.001);
-  const auto lifted = [&](const LiftConfig& lift, int x0, int x1) {
+  const auto lifted = [&](const ViewLift& lift, int x0, int x1) {
     int n = 0;
     for (int y = 8; y < 472; y += 4) {
       for (int x = x0; x < x1; x += 4) {
@@ -97,8 +97,8 @@ TEST(DepthNoise, LiftingIgnoresNoiseButNotRealEdges) {
 TEST(DepthNoise, KinectFramesLiftAsBefore) {
   const Scan scan = LoadScan(testing::RedkitchenDir() + "@0");
   const View& view = scan.views[0];
-  const LiftConfig plain;
-  const LiftConfig measured = LiftForView(plain, view);
+  const ViewLift plain;
+  const ViewLift measured = LiftForView(LiftConfig(), DepthModel(), view);
   ASSERT_GT(measured.view_depth_noise_at_1m_m, 0.0);
   int compared = 0;
   for (int y = 0; y < view.depth.rows; y += 2) {

@@ -63,8 +63,8 @@ TEST(Icp, CoarseToFineRecoversAStartElevenCentimetresOff) {
   std::normal_distribution<double> noise(0.0, 0.003);
   for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
 
-  const IcpResult r =
-      RefinePointToPlane(source, target, Transform::Identity(), IcpSchedule(RefineConfig()));
+  const IcpResult r = RefinePointToPlane(source, target, Transform::Identity(),
+                                         IcpSchedule(RefineConfig(), DepthModel()));
   EXPECT_LT(TranslationErrorM(r.T_target_source, gt), 0.003);
   EXPECT_LT(RotationErrorDeg(r.T_target_source, gt), 0.2);
   EXPECT_GT(r.fitness, 0.9);
@@ -75,8 +75,10 @@ TEST(Icp, ExactStartStaysPutAndDeterministic) {
   const std::vector<Eigen::Vector3d> target = RoomCorner(0.02);
   const Transform gt = Motion(10.0, {0.0, 0.0, 1.0}, {0.3, 0.1, 0.0});
   const std::vector<Eigen::Vector3d> source = Moved(target, gt.inverse());
-  const IcpResult a = RefinePointToPlane(source, target, gt, IcpSchedule(RefineConfig()));
-  const IcpResult b = RefinePointToPlane(source, target, gt, IcpSchedule(RefineConfig()));
+  const IcpResult a =
+      RefinePointToPlane(source, target, gt, IcpSchedule(RefineConfig(), DepthModel()));
+  const IcpResult b =
+      RefinePointToPlane(source, target, gt, IcpSchedule(RefineConfig(), DepthModel()));
   EXPECT_LT(TranslationErrorM(a.T_target_source, gt), 1e-4);
   EXPECT_TRUE((a.T_target_source.array() == b.T_target_source.array()).all());
 }
@@ -89,7 +91,7 @@ TEST(Icp, ThreadCountDoesNotChangeOneBitAndPreparedGeometryIsReusable) {
   std::mt19937 rng(5);
   std::normal_distribution<double> noise(0.0, 0.003);
   for (Eigen::Vector3d& p : source) p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig());
+  const std::vector<IcpStage> stages = IcpSchedule(RefineConfig(), DepthModel());
   const IcpGeometry source_geometry(source, stages), target_geometry(target, stages);
   ASSERT_GT(source_geometry.NumPoints(RefineConfig().voxel_m), 4096u);
   const IcpResult one = RefinePointToPlane(source_geometry, target_geometry, Transform::Identity(),
@@ -110,7 +112,8 @@ TEST(Icp, ThreadCountDoesNotChangeOneBitAndPreparedGeometryIsReusable) {
 TEST(Icp, TooFewPointsReturnTheStartUnchanged) {
   const std::vector<Eigen::Vector3d> three = {{0, 0, 1}, {1, 0, 1}, {0, 1, 1}};
   const Transform start = Motion(5.0, {1, 0, 0}, {0.1, 0, 0});
-  const IcpResult r = RefinePointToPlane(three, three, start, IcpSchedule(RefineConfig()));
+  const IcpResult r =
+      RefinePointToPlane(three, three, start, IcpSchedule(RefineConfig(), DepthModel()));
   EXPECT_TRUE((r.T_target_source.array() == start.array()).all());
   EXPECT_EQ(r.iterations, 0);
 }
@@ -133,11 +136,12 @@ TEST(Icp, AnchorsFixWhatAPlaneLeavesOpen) {
     anchors.target.push_back(target[k]);
   }
   ASSERT_GT(anchors.source.size(), 20u);
-  const IcpResult plain = RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig()));
+  const IcpResult plain =
+      RefinePointToPlane(floor, target, start, IcpSchedule(RefineConfig(), DepthModel()));
   RefineConfig every_stage;  // what the pipeline does where the check flags degenerate geometry
   every_stage.anchor_weight_fine = every_stage.anchor_weight_coarse;
   const IcpResult anchored =
-      RefinePointToPlane(floor, target, start, IcpSchedule(every_stage), anchors);
+      RefinePointToPlane(floor, target, start, IcpSchedule(every_stage, DepthModel()), anchors);
   EXPECT_GT(TranslationErrorM(plain.T_target_source, gt), 0.03);  // plain ICP keeps the error
   EXPECT_LT(TranslationErrorM(anchored.T_target_source, gt), 0.005);
   EXPECT_LT(RotationErrorDeg(anchored.T_target_source, gt), 0.2);
@@ -164,12 +168,12 @@ TEST(Icp, DepthNoiseWeightsTrustNearReadingsOverABiasedFarWall) {
   }
   for (const Eigen::Vector3d& p : target) target_depth.push_back(p.z());
 
-  const RefineConfig weighted;  // the default: 1.5 mm at 1 m, exponent 2
-  ASSERT_GT(weighted.depth_noise_at_1m_m, 0.0);
-  RefineConfig equal_weights;
-  equal_weights.depth_noise_at_1m_m = 0.0;
-  const auto refine = [&](const RefineConfig& config, bool with_depth) {
-    const std::vector<IcpStage> stages = IcpSchedule(config);
+  const DepthModel weighted;  // the default: 1.5 mm at 1 m, exponent 2
+  ASSERT_GT(weighted.noise_at_1m_m, 0.0);
+  DepthModel equal_weights;
+  equal_weights.noise_at_1m_m = 0.0;
+  const auto refine = [&](const DepthModel& depth, bool with_depth) {
+    const std::vector<IcpStage> stages = IcpSchedule(RefineConfig(), depth);
     return RefinePointToPlane(
         IcpGeometry(source, stages, false, with_depth ? source_depth : std::vector<double>()),
         IcpGeometry(target, stages, true, with_depth ? target_depth : std::vector<double>()), gt,
@@ -185,7 +189,7 @@ TEST(Icp, DepthNoiseWeightsTrustNearReadingsOverABiasedFarWall) {
   EXPECT_TRUE((no_readings.T_target_source.array() == plain.T_target_source.array()).all());
   // One reading per point or none.
   source_depth.pop_back();
-  EXPECT_THROW(IcpGeometry(source, IcpSchedule(weighted), false, source_depth),
+  EXPECT_THROW(IcpGeometry(source, IcpSchedule(RefineConfig(), weighted), false, source_depth),
                std::invalid_argument);
 }
 

@@ -29,7 +29,7 @@ TEST(Proposals, TopUpAddsTheDepthRegionsToAViewWithoutDetections) {
   ObjectsConfig objects;
   objects.proposals_below = 2;
   std::vector<ObjectObservation> found;
-  TopUpWithProposals(view, objects, LiftConfig(), &found);
+  TopUpWithProposals(view, objects, ViewLift(), &found);
   // Both boxes, not the wall (more than a quarter of the image).
   ASSERT_EQ(found.size(), 2u);
   for (const ObjectObservation& o : found) {
@@ -47,18 +47,18 @@ TEST(Proposals, TopUpSkipsRegionsADetectionCoversAndViewsWithEnoughDetections) {
   ObjectsConfig objects;
   objects.proposals_below = 2;
   std::vector<ObjectObservation> found = {detected};
-  TopUpWithProposals(view, objects, LiftConfig(), &found);
+  TopUpWithProposals(view, objects, ViewLift(), &found);
   ASSERT_EQ(found.size(), 2u);  // the detection and the right box only
   EXPECT_EQ(found[0].detection.label, "box");
   EXPECT_GT(found[1].detection.box.x, 160);
 
   objects.proposals_below = 1;  // one usable detection is enough: nothing added
   found = {detected};
-  TopUpWithProposals(view, objects, LiftConfig(), &found);
+  TopUpWithProposals(view, objects, ViewLift(), &found);
   EXPECT_EQ(found.size(), 1u);
   objects.proposals_below = 0;  // off
   found.clear();
-  TopUpWithProposals(view, objects, LiftConfig(), &found);
+  TopUpWithProposals(view, objects, ViewLift(), &found);
   EXPECT_TRUE(found.empty());
 }
 

@@ -106,7 +106,7 @@ TEST(SceneObjects, LiftMaskSkipsInvalidDepthAndEdges) {
   mask(cv::Rect(16, 0, 48, 48)).setTo(255);  // the near surface only
   ObjectsConfig objects;
   objects.pixel_stride = 1;
-  const auto points = LiftMask(view, mask, objects, LiftConfig());
+  const auto points = LiftMask(view, mask, objects, ViewLift());
   ASSERT_FALSE(points.empty());
   const int radius = LiftConfig().depth_edge_radius_px;
   bool beside_hole = false;
@@ -134,7 +134,7 @@ TEST(SceneObjects, LiftMaskPointCountFollowsTheImageSize) {
     mask(cv::Rect(width / 4, height / 4, width / 2, height / 2)).setTo(255);  // a quarter of it
     ObjectsConfig objects;
     objects.pixel_stride = stride;
-    return static_cast<double>(LiftMask(view, mask, objects, LiftConfig()).size());
+    return static_cast<double>(LiftMask(view, mask, objects, ViewLift()).size());
   };
   const double at_640 = lifted(640, 480, 0);
   EXPECT_EQ(at_640, lifted(640, 480, 4));               // auto = 4 at 640 px wide, as before

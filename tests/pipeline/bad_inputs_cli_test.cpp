@@ -63,7 +63,7 @@ TEST_F(CliBadInput, ConfigValuesOutOfRangeOrOfTheWrongType) {
       {R"({"objects": {"min_views": 0}})", "objects.min_views is 0"},
       {R"({"object_match": {"restarts": -1}})", "object_match.restarts is -1"},
       {R"({"match": {"sinkhorn": {"iterations": 0}}})", "match.sinkhorn.iterations is 0"},
-      {R"({"lift": {"min_depth_m": 9}})", "lift.min_depth_m (9) must be below lift.max_depth_m"},
+      {R"({"depth": {"min_m": 9}})", "depth.min_m (9) must be below depth.max_m"},
   };
   for (const auto& [config, message] : cases) {
     Write("config.json", config);

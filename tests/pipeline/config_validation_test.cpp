@@ -119,6 +119,23 @@ TEST(ConfigValidation, RemovedSettingsNameWhatReplacedThem) {
         ConfigToJson(PipelineConfig()).at(section).contains(key.substr(section.size() + 1)))
         << key;
   }
+  // The per-stage copies of the depth model point to the one `depth` key.
+  const std::vector<std::pair<std::string, std::string>> moved = {
+      {"lift.min_depth_m", "depth.min_m"},
+      {"verify.max_depth_m", "depth.max_m"},
+      {"lift.depth_edge_relative", "depth.edge_relative"},
+      {"segmenter.depth_edge_relative", "depth.edge_relative"},
+      {"verify.depth_edge_relative", "depth.edge_relative"},
+      {"verify.depth_noise_at_1m_m", "depth.noise_at_1m_m"},
+      {"refine.depth_noise_exponent", "depth.noise_exponent"},
+  };
+  for (const auto& [key, replacement] : moved) {
+    PipelineConfig c;
+    const std::string m = MessageOf([&, key = key] { ApplyConfigOverride(key + "=1", &c); });
+    EXPECT_NE(m.find(key + " moved"), std::string::npos) << m;
+    EXPECT_NE(m.find(replacement), std::string::npos) << m;
+    EXPECT_EQ(m.find("known keys"), std::string::npos) << m;
+  }
   PipelineConfig c;
   ApplyConfigOverride("seed=7", &c);
   EXPECT_EQ(c.seed, 7u);

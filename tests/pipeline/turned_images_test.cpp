@@ -79,7 +79,7 @@ TEST(TurnedImages, KeypointsOfEveryTurnLandOnTheUnturnedPixel) {
   view.depth = cv::Mat(48, 64, CV_32FC1, cv::Scalar(2.0f));
   view.intrinsics = {60.0, 60.0, 31.5, 23.5, 64, 48};
   const BrightestPixel extractor;
-  const LiftConfig lift;
+  const ViewLift lift;
   const LiftedFeatures unturned = ExtractLiftedFeatures(extractor, view, lift);
   ASSERT_EQ(unturned.features.size(), 1);
   for (int quarter_turns = 1; quarter_turns <= 3; ++quarter_turns) {
@@ -100,7 +100,7 @@ TEST(TurnedImages, RealFrameTurnedBackGivesTheFramesOwnFeaturesAndPoints) {
   PipelineConfig config;
   const std::unique_ptr<FeatureExtractor> xfeat =
       MakeFeatureExtractor(config.features, perception_test::AssetsDir(), config.inference);
-  const LiftConfig lift = LiftForView(config.lift, view);
+  const ViewLift lift = LiftForView(config.lift, config.depth, view);
   const LiftedFeatures original = ExtractLiftedFeatures(*xfeat, view, lift);
   const LiftedFeatures back = ExtractLiftedFeatures(*xfeat, rolled, lift, 3);
   ASSERT_GT(original.features.size(), 1000);

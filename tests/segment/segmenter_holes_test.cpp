@@ -88,11 +88,12 @@ TEST(SegmenterHoles, BoxEdgesEqualTheWholeImages) {
     SegmenterConfig config;
     config.min_hole_width_px = width;
     const cv::Mat whole = detail::DepthEdgeMask(depth, config.depth_edge_radius_px,
-                                                config.depth_edge_relative, 0.0, width);
+                                                DepthModel().edge_relative, 0.0, width);
     for (const cv::Rect& box : boxes) {
       SCOPED_TRACE("width " + std::to_string(width) + " box " + std::to_string(box.x) + "," +
                    std::to_string(box.y));
-      const cv::Mat in_box = detail::BoxDepthEdges(depth, box, config, 0.0);
+      const cv::Mat in_box =
+          detail::BoxDepthEdges(depth, box, config, DepthModel().edge_relative, 0.0);
       EXPECT_EQ(cv::countNonZero(in_box != whole(box)), 0);
     }
   }

@@ -110,7 +110,7 @@ Pair MakePair(const std::vector<Box>& scene, int scale = 1) {
 TEST(Verify, CorrectTransformPasses) {
   const Pair p = MakePair(Room());
   const VerificationResult v =
-      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
+      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig(), DepthModel());
   EXPECT_TRUE(v.ran);
   EXPECT_TRUE(v.passed) << v.reason;
   EXPECT_GT(v.overlap, 0.6);
@@ -128,20 +128,24 @@ TEST(Verify, BrightnessRankCorrelationAtTheAgreeingSamples) {
   const Transform P_target = Pose(0, {0, 0, 0}), P_source = Pose(12, {0.3, 0.0, 0.4});
   const Transform T = P_target.inverse() * P_source;
   const Scan source = Render(Room(), P_source, 1, true), target = Render(Room(), P_target, 1, true);
-  const VerificationResult right = VerifyRegistration(source, target, T, VerifyConfig());
+  const VerificationResult right =
+      VerifyRegistration(source, target, T, VerifyConfig(), DepthModel());
   ASSERT_TRUE(right.passed) << right.reason;
   EXPECT_GT(right.brightness_rank_correlation, 0.9);
   Scan darker = target;  // another exposure: the order of brightness stays
   darker.views[0].color = target.views[0].color * 0.5;
-  EXPECT_GT(VerifyRegistration(source, darker, T, VerifyConfig()).brightness_rank_correlation, 0.9);
+  EXPECT_GT(VerifyRegistration(source, darker, T, VerifyConfig(), DepthModel())
+                .brightness_rank_correlation,
+            0.9);
   Scan reversed = target;
   cv::subtract(cv::Scalar::all(255), target.views[0].color, reversed.views[0].color);
-  EXPECT_LT(VerifyRegistration(source, reversed, T, VerifyConfig()).brightness_rank_correlation,
+  EXPECT_LT(VerifyRegistration(source, reversed, T, VerifyConfig(), DepthModel())
+                .brightness_rank_correlation,
             -0.9);
   const Pair grey = MakePair(Room());
-  EXPECT_TRUE(
-      std::isnan(VerifyRegistration(grey.source, grey.target, grey.T_target_source, VerifyConfig())
-                     .brightness_rank_correlation));
+  EXPECT_TRUE(std::isnan(VerifyRegistration(grey.source, grey.target, grey.T_target_source,
+                                            VerifyConfig(), DepthModel())
+                             .brightness_rank_correlation));
 }
 
 // The dangerous case: a transform that keeps the floor aligned (here: turned 35 deg
@@ -155,8 +159,8 @@ TEST(Verify, TransformAligningOnlyTheFloorFails) {
   const Eigen::Vector3d pivot(0, 1.2, 3);
   slide.topRightCorner<3, 1>() = pivot - slide.topLeftCorner<3, 3>() * pivot +
                                  Eigen::Vector3d(0.4, 0, -0.3);  // stays on the floor plane
-  const VerificationResult v =
-      VerifyRegistration(p.source, p.target, slide * p.T_target_source, VerifyConfig());
+  const VerificationResult v = VerifyRegistration(p.source, p.target, slide * p.T_target_source,
+                                                  VerifyConfig(), DepthModel());
   EXPECT_FALSE(v.passed) << v.reason;
   EXPECT_GT(v.violation, 0.1) << v.reason;
 }
@@ -165,25 +169,27 @@ TEST(Verify, WrongByThirtyCentimetresFails) {
   const Pair p = MakePair(Room());
   Transform shift = Transform::Identity();
   shift.topRightCorner<3, 1>() = Eigen::Vector3d(0.3, 0, 0);
-  const VerificationResult v =
-      VerifyRegistration(p.source, p.target, shift * p.T_target_source, VerifyConfig());
+  const VerificationResult v = VerifyRegistration(p.source, p.target, shift * p.T_target_source,
+                                                  VerifyConfig(), DepthModel());
   EXPECT_FALSE(v.passed) << v.reason;
 }
 
 TEST(Verify, CorridorIsFlaggedDegenerate) {
   const Pair p = MakePair(Corridor());
   const VerificationResult v =
-      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
+      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig(), DepthModel());
   EXPECT_TRUE(v.degenerate) << v.reason;
   EXPECT_LT(v.probe_contradicted, VerifyConfig().min_probe_contradicted);
 }
 
 TEST(Verify, RoomIsNotDegenerateButASinglePlaneIs) {
   const Pair room = MakePair(Room());
-  EXPECT_FALSE(VerifyRegistration(room.source, room.target, room.T_target_source, VerifyConfig())
+  EXPECT_FALSE(VerifyRegistration(room.source, room.target, room.T_target_source, VerifyConfig(),
+                                  DepthModel())
                    .degenerate);
   const Pair plane = MakePair({{{-20, 1.2, -20}, {20, 1.3, 20}}});
-  EXPECT_TRUE(VerifyRegistration(plane.source, plane.target, plane.T_target_source, VerifyConfig())
+  EXPECT_TRUE(VerifyRegistration(plane.source, plane.target, plane.T_target_source, VerifyConfig(),
+                                 DepthModel())
                   .degenerate);
 }
 
@@ -195,8 +201,10 @@ TEST(Verify, SlidingAlongAWallScoresLowerThanTheTruth) {
   Transform slide = Transform::Identity();
   slide.topRightCorner<3, 1>() = Eigen::Vector3d(0.2, 0, 0);  // along the back wall (x)
   const VerifyConfig c;
-  const double truth = VerifyRegistration(p.source, p.target, p.T_target_source, c).score;
-  const double slid = VerifyRegistration(p.source, p.target, slide * p.T_target_source, c).score;
+  const double truth =
+      VerifyRegistration(p.source, p.target, p.T_target_source, c, DepthModel()).score;
+  const double slid =
+      VerifyRegistration(p.source, p.target, slide * p.T_target_source, c, DepthModel()).score;
   EXPECT_LT(slid, truth - 0.05);
 }
 
@@ -204,7 +212,7 @@ TEST(Verify, NoDepthIsTooLittleToVerify) {
   Pair p = MakePair(Room());
   p.source.views[0].depth.setTo(0.0f);
   const VerificationResult v =
-      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig());
+      VerifyRegistration(p.source, p.target, p.T_target_source, VerifyConfig(), DepthModel());
   EXPECT_FALSE(v.passed);
   EXPECT_LT(std::min(v.source_samples, v.target_samples), VerifyConfig().min_points) << v.reason;
 }
@@ -214,20 +222,20 @@ TEST(Verify, NoDepthIsTooLittleToVerify) {
 // while a fixed stride samples the larger image four times as densely.
 TEST(Verify, SamplesFollowTheImageSize) {
   const Pair small = MakePair(Room(), 2), large = MakePair(Room(), 4);
-  const size_t n_small = SampleSurface(small.target, VerifyConfig()).size();
-  const size_t n_large = SampleSurface(large.target, VerifyConfig()).size();
+  const size_t n_small = SampleSurface(small.target, VerifyConfig(), DepthModel()).size();
+  const size_t n_large = SampleSurface(large.target, VerifyConfig(), DepthModel()).size();
   ASSERT_GT(n_small, 5000u);
   EXPECT_NEAR(static_cast<double>(n_large) / static_cast<double>(n_small), 1.0, 0.05);
   VerifyConfig fixed;
   fixed.pixel_stride = 4;
-  EXPECT_EQ(SampleSurface(small.target, fixed).size(), n_small);  // 640 px: auto = 4
-  EXPECT_NEAR(
-      static_cast<double>(SampleSurface(large.target, fixed).size()) / static_cast<double>(n_small),
-      4.0, 0.2);
-  const VerificationResult a =
-      VerifyRegistration(small.source, small.target, small.T_target_source, VerifyConfig());
-  const VerificationResult b =
-      VerifyRegistration(large.source, large.target, large.T_target_source, VerifyConfig());
+  EXPECT_EQ(SampleSurface(small.target, fixed, DepthModel()).size(), n_small);  // 640 px: auto = 4
+  EXPECT_NEAR(static_cast<double>(SampleSurface(large.target, fixed, DepthModel()).size()) /
+                  static_cast<double>(n_small),
+              4.0, 0.2);
+  const VerificationResult a = VerifyRegistration(small.source, small.target, small.T_target_source,
+                                                  VerifyConfig(), DepthModel());
+  const VerificationResult b = VerifyRegistration(large.source, large.target, large.T_target_source,
+                                                  VerifyConfig(), DepthModel());
   EXPECT_TRUE(a.passed) << a.reason;
   EXPECT_TRUE(b.passed) << b.reason;
   EXPECT_NEAR(a.overlap, b.overlap, 0.03);
@@ -235,8 +243,8 @@ TEST(Verify, SamplesFollowTheImageSize) {
 
 TEST(Verify, SameInputSameResult) {
   const Pair p = MakePair(Room());
-  const VerificationResult a = VerifyRegistration(p.source, p.target, p.T_target_source, {});
-  const VerificationResult b = VerifyRegistration(p.source, p.target, p.T_target_source, {});
+  const VerificationResult a = VerifyRegistration(p.source, p.target, p.T_target_source, {}, {});
+  const VerificationResult b = VerifyRegistration(p.source, p.target, p.T_target_source, {}, {});
   EXPECT_EQ(a.score, b.score);
   EXPECT_EQ(a.reason, b.reason);
 }

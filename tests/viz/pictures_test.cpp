@@ -109,11 +109,11 @@ TEST(Pictures, VerificationPictureShowsAgreementAndFreeSpace) {
     return std::make_pair(red, green);
   };
   const auto [red_near, green_near] =
-      dominant(DrawVerification(near, target, result, VerifyConfig(), 0));
+      dominant(DrawVerification(near, target, result, VerifyConfig(), DepthModel(), 0));
   EXPECT_GT(red_near, 100);
   EXPECT_EQ(green_near, 0);
-  const auto [red_same, green_same] =
-      dominant(DrawVerification(GreyScan("s", 1, 40), target, result, VerifyConfig(), 0));
+  const auto [red_same, green_same] = dominant(
+      DrawVerification(GreyScan("s", 1, 40), target, result, VerifyConfig(), DepthModel(), 0));
   EXPECT_GT(green_same, 100);
   EXPECT_EQ(red_same, 0);
 }

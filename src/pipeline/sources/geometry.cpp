@@ -14,10 +14,10 @@ std::vector<Correspondence> GeometryCorrespondences(const Scan& source, const Sc
   FpfhParams params;
   params.voxel_m = h.geometry_voxel_m;
   const FpfhCloud s = ComputeFpfh(ScanPoints(source, PixelGrid{h.geometry_pixel_stride},
-                                             config.lift.min_depth_m, config.lift.max_depth_m),
+                                             config.depth.min_m, config.depth.max_m),
                                   params);
   const FpfhCloud t = ComputeFpfh(ScanPoints(target, PixelGrid{h.geometry_pixel_stride},
-                                             config.lift.min_depth_m, config.lift.max_depth_m),
+                                             config.depth.min_m, config.depth.max_m),
                                   params);
   std::vector<Correspondence> out;
   for (const FeaturePair& m : MutualFeatureMatches(s, t, config.threads)) {

@@ -30,8 +30,7 @@ SynthesizedMatches MatchRenderedView(const Scan& target, const VirtualCamera& ca
   SynthesizedMatches out;
   out.camera = camera;
   RenderConfig render;
-  render.min_depth_m = config.lift.min_depth_m;
-  render.max_depth_m = config.lift.max_depth_m;
+  render.depth = config.depth;
   const RenderedView view = RenderScan(target, camera.T_target_camera, K, render);
   out.covered = static_cast<double>(view.covered) / std::max(1, K.width * K.height);
   if (out.covered < min_covered) return out;
