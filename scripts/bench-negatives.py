@@ -111,6 +111,8 @@ def main():
                     help="low overlap: the smaller direction's co-visibility in [LO, HI)")
     ap.add_argument("--seed", type=int, default=0, help="seed of the pair sampling")
     ap.add_argument("--out", default="results/negatives")
+    ap.add_argument("--only-scene", action="append", default=[],
+                    help="register only the sampled pairs of this scene (sampling unchanged)")
     ap.add_argument("--set", action="append", default=[], help="config override section.key=value")
     ap.add_argument("--prior-error", type=float, nargs=2, metavar=("DEG", "M"),
                     help="register every pair with a motion prior this far from the truth "
@@ -179,6 +181,8 @@ def main():
         a, b = (SCENES[x] for x in rng_cross.choice(len(SCENES), size=2, replace=False))
         pairs.append(("cross scene", a, int(rng_cross.choice(ids[a])), b,
                       int(rng_cross.choice(ids[b])), 0.0))
+    if args.only_scene:
+        pairs = [p for p in pairs if p[1] in args.only_scene]
     if not pairs:
         sys.exit("no pairs to register (all counts 0, or none found)")
 
@@ -201,12 +205,17 @@ def main():
                 print(f"{ss}@{sf} -> {ts}@{tf}: {e}", file=sys.stderr)
                 continue
             seconds = time.perf_counter() - start
-            verification = r.to_dict().get("verification", {})
+            full = r.to_dict()
+            verification = full.get("verification", {})
             rec = {"kind": kind, "target": f"{ts}@{tf}", "source": f"{ss}@{sf}",
                    "covisibility": round(c, 4), "valid": bool(r.valid), "path": r.path,
                    "overlap": verification.get("overlap"),
                    "brightness_rank_correlation": verification.get("brightness_rank_correlation"),
-                   "reason": r.reason, "time_ms": round(1000 * seconds, 1)}
+                   "reason": r.reason, "time_ms": round(1000 * seconds, 1),
+                   "ambiguous": bool(full.get("ambiguous", False)),
+                   "candidates": full.get("candidates", []),
+                   "alternatives": full.get("alternatives", []),
+                   "timings_ms": full.get("timings_ms", {})}
             if prior:
                 rec["prior_error"] = args.prior_error
             if gt is not None:

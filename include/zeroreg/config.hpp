@@ -690,19 +690,22 @@ struct HypothesesConfig {
 // decisive is judged against second poses away from it; if one fits about as well, the result is
 // not valid but ambiguous, with both poses in RegistrationResult::alternatives.
 struct AmbiguityConfig {
-  // Off by default: measured on samples of the frame lists, the search ran on 1-6 of every 8-15
-  // pairs and took 28-68 % of their time, and it made one right result of 8 (cabinet-gap1) and
-  // of 15 (hololens-gap5) ambiguous; on the 300 low-overlap pairs of scripts/bench-negatives.py it
-  // refuses most TUM-cabinet half turns (docs/ARCHITECTURE.md "Ambiguity").
-  bool enabled = false;
-  // Decisive: at least this many image correspondences (inliers under the reported pose, of a
-  // source that matched images) support it; then the second poses are not sought. Geometry (FPFH)
-  // and object-centroid correspondences are never decisive: a symmetric shape matches itself.
-  // Measured: every half turn of the TUM cabinet reported valid (scripts/bench-negatives.py) had at
-  // most 38 image inliers.
-  int decisive_inliers = 50;
+  // On by default, searching only winners that rest on little (decisive_inliers): over the ten
+  // frame lists every valid-but-wrong result came from the geometry or object cliques (3 of the
+  // 739 valid results, hololens-low, 0-7 inliers), and the search runs on 76 of the 784 pairs.
+  bool enabled = true;
+  // Decisive: a winner of a source that matched images (objects, whole or turned images) with at
+  // least this many image correspondences (inliers under the reported pose). 4 by the rule ICP's
+  // refinement keeps (KeptEvidence): three correspondences agree with some motion whenever their
+  // pairwise distances do, so fewer than four leave nothing but the check. Geometry (FPFH),
+  // object-centroid and view-synthesis winners are never decisive: a symmetric shape matches
+  // itself. 50 also searches the image sources' half turns of the TUM cabinet
+  // (scripts/bench-negatives.py: every one had at most 38 image inliers), but runs on 304 of the
+  // 784 frame-list pairs (28-68 % of each one's time).
+  int decisive_inliers = 4;
   // The second poses: the reported pose turned by 90, 180 and 270 deg about the target's vertical
-  // (its first view's image up) through the centroid of the source surface it places, then ICP.
+  // (the principal axis of its surface normals nearest its first view's image up, or the image
+  // up) through the centroid of the source surface it places, then ICP.
   // The check judges them with this free-space tolerance instead of verify.max_violation: at the
   // truth of the TUM cabinet's half-turn pairs the check measures 10-54 % (its depth and poses
   // disagree there), so the strict check cannot see that a second pose fits.

@@ -330,7 +330,9 @@ def test_ambiguous_result_lists_both_poses():
     # turned pose fits as well as the reported one, so the result is not valid but ambiguous,
     # both poses listed, the reported one first.
     cabinet = os.path.join(REPO, "..", "shared", "data", "tum-fr3-cabinet")
-    pipeline = zeroreg.Pipeline({"ambiguity": {"enabled": True}})  # off by default
+    # Its winner has image inliers (4 or more: decisive by default), so the search is asked to
+    # look at winners with fewer than 50.
+    pipeline = zeroreg.Pipeline({"ambiguity": {"decisive_inliers": 50}})
     r = pipeline.register(f"{cabinet}@31", f"{cabinet}@9")
     assert not r.valid and r.ambiguous, r.reason
     assert r.refusal["test"] == "ambiguous"

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "eval/metrics.hpp"
+
 namespace zeroreg {
 
 bool Better(const RegistrationResult& a, const RegistrationResult& b) {
@@ -90,8 +92,13 @@ bool Rivals(const PipelineConfig& config, const RegistrationResult& first,
             const RegistrationResult& second, double apart_m) {
   const VerificationResult& v = second.verification;
   const double rho = v.brightness_rank_correlation;
-  return apart_m > config.refine.max_distance_coarse_m && !second.outside_prior && v.passed &&
-         std::isfinite(rho) && rho >= config.hypotheses.min_brightness_rank_correlation &&
+  // The second poses start a quarter turn or more from the first; one that ICP brought back
+  // within half of that went back toward the first: the first, badly converged under the relaxed
+  // check, not a pose the scene's symmetry allows.
+  const double turned_deg = RotationErrorDeg(second.T_target_source, first.T_target_source);
+  return apart_m > config.refine.max_distance_coarse_m && turned_deg >= 45.0 &&
+         !second.outside_prior && v.passed && std::isfinite(rho) &&
+         rho >= config.hypotheses.min_brightness_rank_correlation &&
          v.score >= config.ambiguity.min_score_fraction * first.verification.score;
 }
 
@@ -358,6 +365,7 @@ void Arbiter::SecondPose(Judged* held) {
     if (seen) continue;
     if (Rivals(config, first, second.result, apart_m)) {
       rivals.push_back(AlternativeOf(second.result, apart_m));
+      break;  // one rival settles it: the result is ambiguous
     } else if (second.result.outside_prior && second.result.verification.passed &&
                apart_m > config.refine.max_distance_coarse_m) {
       RegistrationResult unprioritised = second.result;

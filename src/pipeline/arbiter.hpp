@@ -50,9 +50,11 @@ bool Decisive(const PipelineConfig& config, const RegistrationResult& result);
 // Whether `second` rivals the valid `first` (the ambiguity rule): the check can tell them apart
 // (`apart_m`, their RMS distance over the source surface, beyond ICP's widest gate
 // refine.max_distance_coarse_m: closer, ICP from one reaches the other and they are one answer),
-// no motion prior rules it out, it passed the check judged with ambiguity.max_violation, its
-// images agree where its depth does (hypotheses.min_brightness_rank_correlation) and its score is
-// at least ambiguity.min_score_fraction of first's.
+// it lies at least 45 deg from first (half the smallest turn a second pose starts from: closer,
+// ICP went back toward first), no motion prior rules it out, it passed the check judged with
+// ambiguity.max_violation, its images agree where its depth does
+// (hypotheses.min_brightness_rank_correlation) and its score is at least
+// ambiguity.min_score_fraction of first's.
 bool Rivals(const PipelineConfig& config, const RegistrationResult& first,
             const RegistrationResult& second, double apart_m);
 

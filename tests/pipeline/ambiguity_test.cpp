@@ -23,6 +23,17 @@ Transform Along(double x_m) {
   return T;
 }
 
+// Along(x_m) after a quarter turn about the line y = 0, z = 2 (where the stand-in source samples
+// lie, so it moves none of them): a second pose as far from the first as Along(x_m), turned.
+Transform TurnedAlong(double x_m) {
+  Transform turn = Transform::Identity();
+  turn.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const Eigen::Vector3d on_axis(0.0, 0.0, 2.0);
+  turn.topRightCorner<3, 1>() = on_axis - turn.topLeftCorner<3, 3>() * on_axis;
+  return Along(x_m) * turn;
+}
+
 // A candidate as the judge leaves it: its check's score, whether that check passed, and how well
 // the images agree where the depth does.
 RegistrationResult Candidate(double score, bool passed = true, double rho = 0.7) {
@@ -36,31 +47,47 @@ RegistrationResult Candidate(double score, bool passed = true, double rho = 0.7)
   return r;
 }
 
-// The test switched on (ambiguity.enabled is off by default).
+// The test on winners with fewer than 50 image inliers too (by default: fewer than 4).
 PipelineConfig On() {
   PipelineConfig config;
   config.ambiguity.enabled = true;
+  config.ambiguity.decisive_inliers = 50;
   return config;
+}
+
+// A second pose as the judge leaves it, a quarter turn from the first (at the identity).
+RegistrationResult Second(double score, bool passed = true, double rho = 0.8) {
+  RegistrationResult r = Candidate(score, passed, rho);
+  r.T_target_source = TurnedAlong(0.0);
+  return r;
 }
 
 TEST(AmbiguityRule, ASecondPoseRivalsOnlyWhenItFitsFarAwayAndItsImagesAgree) {
   const PipelineConfig config = On();
   const double gate = config.refine.max_distance_coarse_m;
   const RegistrationResult first = Candidate(0.6);
-  EXPECT_TRUE(Rivals(config, first, Candidate(0.4), 2 * gate));
+  EXPECT_TRUE(Rivals(config, first, Second(0.4), 2 * gate));
   // Within ICP's widest gate the two are one answer.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6), 0.5 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6), 0.5 * gate));
+  // Turned back within half a quarter turn of the first: the first again, not a symmetry.
+  RegistrationResult back = Candidate(0.4);
+  back.T_target_source.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_FALSE(Rivals(config, first, back, 2 * gate));
+  back.T_target_source.topLeftCorner<3, 3>() =
+      Eigen::AngleAxisd(50.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  EXPECT_TRUE(Rivals(config, first, back, 2 * gate));
   // Refused by the (relaxed) check.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, /*passed=*/false), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, /*passed=*/false), 2 * gate));
   // The images disagree where the depth agrees: unrelated surfaces lined up.
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, true, 0.1), 2 * gate));
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6, true, std::nan("")), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, true, 0.1), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6, true, std::nan("")), 2 * gate));
   // Scoring far below the first is not about as good.
   const double fraction = config.ambiguity.min_score_fraction;
-  EXPECT_FALSE(Rivals(config, first, Candidate(0.6 * fraction * 0.9), 2 * gate));
-  EXPECT_TRUE(Rivals(config, first, Candidate(0.6 * fraction * 1.1), 2 * gate));
+  EXPECT_FALSE(Rivals(config, first, Second(0.6 * fraction * 0.9), 2 * gate));
+  EXPECT_TRUE(Rivals(config, first, Second(0.6 * fraction * 1.1), 2 * gate));
   // A motion prior that rules it out separates the two.
-  RegistrationResult beyond = Candidate(0.6);
+  RegistrationResult beyond = Second(0.6);
   beyond.outside_prior = true;
   EXPECT_FALSE(Rivals(config, first, beyond, 2 * gate));
 }
@@ -142,7 +169,7 @@ AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, i
     r.outside_prior = s.outside_prior;
     r.path = p.path;
     r.path.moved_by_icp = true;
-    r.T_target_source = Along(s.offset_m);
+    r.T_target_source = TurnedAlong(s.offset_m);
     return j;
   };
   StageTimer timer;
@@ -154,7 +181,7 @@ AmbiguityRun RunAmbiguity(const std::map<std::string, StandInSecond>& seconds, i
 
 TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
   const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}});
-  EXPECT_EQ(run.asked, 6);  // three turns about each of two centres
+  EXPECT_EQ(run.asked, 2);  // one rival settles it: turned-90, then turned-180
   const RegistrationResult& r = run.result;
   EXPECT_FALSE(r.valid);
   EXPECT_TRUE(r.ambiguous);
@@ -168,7 +195,7 @@ TEST(AmbiguityArbiter, TwoPosesThatFitMakeTheResultAmbiguousWithBothListed) {
   EXPECT_EQ(r.alternatives[1].name, "turned-180 icp");
   EXPECT_DOUBLE_EQ(r.alternatives[1].score, 0.45);
   EXPECT_NEAR(r.alternatives[1].apart_m, 1.5, 1e-9);
-  EXPECT_TRUE(r.alternatives[1].T_target_source.isApprox(Along(1.5)));
+  EXPECT_TRUE(r.alternatives[1].T_target_source.isApprox(TurnedAlong(1.5)));
   // The reported pose is the first.
   EXPECT_TRUE(r.T_target_source.isApprox(Transform::Identity()));
 }
@@ -188,8 +215,13 @@ TEST(AmbiguityArbiter, ADecisiveResultIsNotSearched) {
   const AmbiguityRun run = RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 500);
   EXPECT_EQ(run.asked, 0);
   EXPECT_TRUE(run.result.valid);
-  const PipelineConfig off;  // the default
-  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 10, off).asked, 0);
+  // By default ten image inliers are decisive, three are not.
+  const PipelineConfig defaults;
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 10, defaults).asked, 0);
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 3, defaults).asked, 2);
+  PipelineConfig off;
+  off.ambiguity.enabled = false;
+  EXPECT_EQ(RunAmbiguity({{"turned-180", {0.45, true, 0.8, 1.5}}}, 3, off).asked, 0);
 }
 
 TEST(AmbiguityArbiter, APriorThatRulesTheOtherPoseOutKeepsTheResultValid) {
@@ -229,6 +261,49 @@ TEST(AmbiguityJson, AlternativesRoundTripThroughTheResultJson) {
   const nlohmann::json plain = ResultToJson(RegistrationResult(), false);
   EXPECT_EQ(plain["ambiguous"], false);
   EXPECT_TRUE(plain["alternatives"].empty());
+}
+
+// The vertical the second poses turn about: the principal axis of the target's surface normals
+// nearest its image up (a camera pitched 40 deg down sees floor and furniture tops 40 deg off its
+// image up), the image up where no axis the normals gather along lies within 45 deg of it.
+Eigen::Vector3d TurnAxisFor(double normals_tilt_deg, bool with_wall) {
+  PipelineConfig config;
+  Prepared source, target;
+  for (int i = 0; i < 50; ++i) {
+    source.surface.push_back({Eigen::Vector3d(0.05 * i, 0.0, 2.0), Eigen::Vector3d::Zero()});
+  }
+  target.scan.views.emplace_back();  // image up along -y
+  const double a = normals_tilt_deg * M_PI / 180.0;
+  const Eigen::Vector3d vertical(0.0, -std::cos(a), std::sin(a));  // tilted about x
+  const Eigen::Vector3d facing(0.0, std::sin(a), std::cos(a));     // a wall, orthogonal to it
+  for (int i = 0; i < 60; ++i) {
+    const bool wall = with_wall && i % 3 == 0;
+    target.surface.push_back({Eigen::Vector3d(0.0, 0.0, 2.0), wall ? facing : vertical});
+  }
+  const std::optional<MotionPrior> no_prior;
+  RegistrationResult first;  // at the identity
+  PairInputs pair{source, target, config, no_prior, nullptr, nullptr, {}, nullptr, &first, &config};
+  pair.first = &first;
+  for (const std::unique_ptr<PoseSource>& s : MakeSources(CostClass::kSecondPose)) {
+    std::string note;
+    const std::optional<Proposal> p = s->Propose(pair, &note);
+    if (!p || p->path.source != PathSource::kTurned180) continue;
+    const Eigen::AngleAxisd turn(Eigen::Matrix3d(p->pose->topLeftCorner<3, 3>()));
+    EXPECT_NEAR(turn.angle(), M_PI, 1e-9);
+    return turn.axis().dot(Eigen::Vector3d(0, -1, 0)) < 0 ? Eigen::Vector3d(-turn.axis())
+                                                          : Eigen::Vector3d(turn.axis());
+  }
+  ADD_FAILURE() << "no half turn proposed";
+  return Eigen::Vector3d::Zero();
+}
+
+TEST(AmbiguitySecondPose, TurnsAboutTheSurfacesVerticalNotTheImageUp) {
+  const double a = 40.0 * M_PI / 180.0;
+  const Eigen::Vector3d tilted(0.0, -std::cos(a), std::sin(a));
+  EXPECT_TRUE(TurnAxisFor(40.0, true).isApprox(tilted, 1e-6));
+  EXPECT_TRUE(TurnAxisFor(40.0, false).isApprox(tilted, 1e-6));
+  // The only plane 60 deg off the image up (the other two axes are arbitrary): the image up.
+  EXPECT_TRUE(TurnAxisFor(60.0, false).isApprox(Eigen::Vector3d(0.0, -1.0, 0.0), 1e-6));
 }
 
 // Real frames: a TUM cabinet pair seen from opposite sides (co-visibility 0.26, 179 deg between

@@ -159,7 +159,7 @@ TEST(Cli, AmbiguousResultExitsOneWithBothPoses) {
   const std::string cabinet = SharedDir() + "/data/tum-fr3-cabinet@";
   const fs::path dir = testing::FreshTestDir("zeroreg_cli_ambiguous");
   const auto r = RunCli("register --source '" + cabinet + "31' --target '" + cabinet +
-                        "9' --set ambiguity.enabled=true --out-dir '" + dir.string() + "'");
+                        "9' --set ambiguity.decisive_inliers=50 --out-dir '" + dir.string() + "'");
   EXPECT_EQ(r.exit_code, 1) << r.output;
   std::ifstream in(dir / "result.json");
   const nlohmann::json j = nlohmann::json::parse(in)["result"];

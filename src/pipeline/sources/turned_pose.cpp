@@ -3,6 +3,7 @@
 // on the surface it aligns, then ICP. A shape that looks the same after such a turn (a box seen
 // from two opposite sides, a long table seen from both ends, an office whose walls repeat) gives a
 // second pose the check accepts; a scene that does not, none.
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <cmath>
 
@@ -43,6 +44,40 @@ std::optional<Eigen::Vector3d> SharedCentre(const PairInputs& pair, const Transf
   return Eigen::Vector3d(placed / static_cast<double>(samples.size()));
 }
 
+// The target's vertical. Hand-held and head-worn cameras are held about upright but pitched by
+// up to tens of degrees (the TUM cabinet's camera looks down about 40 deg, so its image up is 40
+// deg off gravity and a half turn about it lands 80 deg from the half turn about gravity). Rooms
+// and furniture are bounded by horizontal and vertical planes, whose normals gather along three
+// axes: the principal axes of the target surface's normals (eigenvectors of their scatter). An
+// axis along which at least a tenth of the normals' weight lies (a plane the view sees, not an
+// axis left arbitrary by a degenerate scatter) and within 45 deg of the image up (nearer to it
+// than to the horizon) is the vertical, the nearest if several; otherwise the image up.
+Eigen::Vector3d TargetVertical(const PairInputs& pair) {
+  const Eigen::Vector3d up =
+      -pair.target.scan.views[0].T_scan_camera.topLeftCorner<3, 3>().col(1).normalized();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  int n = 0;
+  for (const SurfacePoint& s : pair.target.surface) {
+    if (s.normal.squaredNorm() < 0.5) continue;
+    scatter += s.normal * s.normal.transpose();
+    ++n;
+  }
+  if (n == 0) return up;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+  Eigen::Vector3d best = up;
+  double best_cos = std::cos(45.0 * M_PI / 180.0);
+  for (int k = 0; k < 3; ++k) {
+    if (solver.eigenvalues()(k) < 0.1 * scatter.trace()) continue;
+    const Eigen::Vector3d axis = solver.eigenvectors().col(k).normalized();
+    const double c = std::abs(axis.dot(up));
+    if (c > best_cos) {
+      best_cos = c;
+      best = axis.dot(up) < 0 ? Eigen::Vector3d(-axis) : axis;
+    }
+  }
+  return best;
+}
+
 class TurnedPoseSource : public PoseSource {
  public:
   TurnedPoseSource(double degrees, bool about_all) : degrees_(degrees), about_all_(about_all) {}
@@ -57,10 +92,7 @@ class TurnedPoseSource : public PoseSource {
     const std::optional<Eigen::Vector3d> centre =
         SharedCentre(pair, T, pair.config.ransac.inlier_threshold_m, about_all_);
     if (!centre) return std::nullopt;
-    // The target's vertical: its first view's image up, in the target frame (hand-held and
-    // head-worn cameras are held about upright).
-    const Eigen::Vector3d up =
-        -pair.target.scan.views[0].T_scan_camera.topLeftCorner<3, 3>().col(1).normalized();
+    const Eigen::Vector3d up = TargetVertical(pair);
     Transform turn = Transform::Identity();
     turn.topLeftCorner<3, 3>() = Eigen::AngleAxisd(degrees_ * M_PI / 180.0, up).toRotationMatrix();
     turn.topRightCorner<3, 1>() = *centre - turn.topLeftCorner<3, 3>() * *centre;
