@@ -16,6 +16,14 @@ inline Transform MakeTransform(double angle_rad, const Eigen::Vector3d& axis,
   return T;
 }
 
+// Stand-in poses for the decision-rule tests: a shift along x, a turn about z.
+inline Transform ShiftedAlongX(double x_m) {
+  return MakeTransform(0.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d(x_m, 0.0, 0.0));
+}
+inline Transform TurnedAboutZ(double deg) {
+  return MakeTransform(deg * M_PI / 180.0, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::Zero());
+}
+
 inline Eigen::Vector3d Apply(const Transform& T, const Eigen::Vector3d& p) {
   return (T * p.homogeneous()).head<3>();
 }

@@ -2,10 +2,9 @@
 // that follows from the method or from units; the JSON keys are the field names (see
 // docs/CONFIG.md). The effective config is written into every result. Units: every field ending in
 // _m is a length in metres at room scale, multiplied by the pair's working scale (ScaleConfig:
-// read from the depth noise of structured-light depth, else 1 for scenes seen from 1-5 m, smaller
-// closer, larger farther; the depth-noise coefficients *_at_1m_m, metres at 1 m, are divided by
-// it); _px fields and pixel strides are pixels (strides follow the image size); everything else is
-// a count, fraction or ratio.
+// 1 for scenes seen from 1-5 m, smaller closer, larger farther; the depth-noise coefficients
+// *_at_1m_m, metres at 1 m, are divided by it); _px fields and pixel strides are pixels (strides
+// follow the image size); everything else is a count, fraction or ratio.
 #pragma once
 
 #include <cstdint>
@@ -712,9 +711,8 @@ struct AmbiguityConfig {
   // disagree there), so the strict check cannot see that a second pose fits.
   double max_violation = 0.25;
   // A second pose rivals the reported one when it passes that check, its images agree where its
-  // depth agrees (hypotheses.min_brightness_rank_correlation), its score is at least this
-  // fraction of the reported one's, and ICP left it at least 45 deg from the reported pose (half
-  // the smallest turn it started from: nearer, it is the reported pose again).
+  // depth agrees (hypotheses.min_brightness_rank_correlation) and its score is at least this
+  // fraction of the reported one's.
   double min_score_fraction = 0.3;
 };
 

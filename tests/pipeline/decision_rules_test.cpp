@@ -11,16 +11,11 @@
 #include <vector>
 
 #include "pipeline/arbiter.hpp"
+#include "rigid_motion.hpp"
 #include "zeroreg/register.hpp"
 
 namespace zeroreg {
 namespace {
-
-Transform Shifted(double x_m) {
-  Transform T = Transform::Identity();
-  T(0, 3) = x_m;
-  return T;
-}
 
 RegistrationResult Candidate(bool valid, bool count, double score) {
   RegistrationResult r;
@@ -199,7 +194,7 @@ Decided Decide(const PipelineConfig& base, const std::map<std::string, Answer>& 
     r.valid = a.valid;
     r.count_test_passed = a.count;
     r.verification.score = a.score;
-    r.T_target_source = Shifted(a.offset_m);
+    r.T_target_source = testing::ShiftedAlongX(a.offset_m);
     j.valid_before_icp = a.valid;
     CandidateSummary candidate;
     candidate.name = name;
@@ -220,7 +215,7 @@ Decided Decide(const PipelineConfig& base, const std::map<std::string, Answer>& 
 TEST(ArbiterRules, ThePriorIsAskedOnlyWhenNothingIsValidAndTakenOnlyWhenValid) {
   PipelineConfig config;
   config.hypotheses.enabled = false;  // steps 1 and 4 alone
-  const MotionPrior prior{Shifted(0.05)};
+  const MotionPrior prior{testing::ShiftedAlongX(0.05)};
   // Nothing valid: the prior is asked and its valid candidate taken.
   Decided d =
       Decide(config, {{"object", {false, true, 0.1, 2.0}}, {"prior", {true, true, 0.4}}}, prior);
@@ -250,7 +245,7 @@ TEST(ArbiterRules, ThePriorIsAskedOnlyWhenNothingIsValidAndTakenOnlyWhenValid) {
 TEST(ArbiterRules, CandidatesAreMarkedChosenAndOutsideThePrior) {
   PipelineConfig config;
   config.hypotheses.enabled = false;
-  const MotionPrior prior{Shifted(0.0), 15.0, 0.30};
+  const MotionPrior prior{testing::ShiftedAlongX(0.0), 15.0, 0.30};
   // The method's candidate passes 1 m from the prior (the judge made it invalid); ICP from the
   // prior is valid.
   const Decided d =

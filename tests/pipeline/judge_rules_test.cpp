@@ -13,23 +13,11 @@
 #include <vector>
 
 #include "pipeline/judge.hpp"
+#include "rigid_motion.hpp"
 #include "zeroreg/register.hpp"
 
 namespace zeroreg {
 namespace {
-
-Transform Shifted(double x_m) {
-  Transform T = Transform::Identity();
-  T(0, 3) = x_m;
-  return T;
-}
-
-Transform Turned(double deg) {
-  Transform T = Transform::Identity();
-  T.topLeftCorner<3, 3>() =
-      Eigen::AngleAxisd(deg * M_PI / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return T;
-}
 
 // Correspondences whose target points are the source points moved by `T`: `exact` of them on a
 // 1 m cube's worth of spread (or within 2 cm of a line), then `outliers` with random targets.
@@ -68,7 +56,7 @@ RegistrationResult Estimated(const std::vector<Correspondence>& c, const Pipelin
 
 TEST(JudgeRules, CountTestNeedsThreeCorrespondencesEnoughInliersSpreadAndRatio) {
   const PipelineConfig config;  // min_inliers 10, ratio 0.05, spread 0.05 m
-  const Transform T = Turned(20) * Shifted(0.3);
+  const Transform T = testing::TurnedAboutZ(20) * testing::ShiftedAlongX(0.3);
   // Enough exact correspondences: the count test passes and the estimate is the motion.
   RegistrationResult r = Estimated(Correspondences(T, 30, 0), config);
   EXPECT_TRUE(r.valid && r.count_test_passed) << r.reason;
@@ -188,7 +176,7 @@ RegistrationResult RefinedTo(const RegistrationResult& estimate, const Transform
 TEST(JudgeRules, IcpIsKeptOnlyWhenTheCheckPrefersIt) {
   const PipelineConfig config;
   const RegistrationResult estimate = Estimate(true, 0.5, 20);
-  const Transform near = Shifted(0.03);
+  const Transform near = testing::ShiftedAlongX(0.03);
   // Scores at least as well and keeps its evidence: kept.
   EXPECT_EQ(JudgeRefinement(estimate, RefinedTo(estimate, near, true, 0.6), 20, config, {}).kept,
             Refinement::kKept);
@@ -202,7 +190,7 @@ TEST(JudgeRules, IcpIsKeptOnlyWhenTheCheckPrefersIt) {
 TEST(JudgeRules, IcpFromAnAcceptedEstimateKeepsHalfItsInliers) {
   const PipelineConfig config;  // refine.min_kept_inlier_fraction 0.5
   const RegistrationResult accepted = Estimate(true, 0.5, 20);
-  const RegistrationResult better = RefinedTo(accepted, Shifted(0.4), true, 0.7);
+  const RegistrationResult better = RefinedTo(accepted, testing::ShiftedAlongX(0.4), true, 0.7);
   Refinement r = JudgeRefinement(accepted, better, 9, config, {});
   EXPECT_EQ(r.kept, Refinement::kLeftItsEvidence);
   EXPECT_EQ(r.kept_needed, 10.0);
@@ -218,11 +206,13 @@ TEST(JudgeRules, IcpFromARefusedEstimateIsJudgedByTheCheckAlone) {
   PipelineConfig config;
   config.refine.min_kept_inlier_fraction = 0.5;
   const RegistrationResult refused = Estimate(false, 0.1, 20);
+  EXPECT_EQ(JudgeRefinement(refused, RefinedTo(refused, testing::ShiftedAlongX(0.5), true, 0.6), 0,
+                            config, {})
+                .kept,
+            Refinement::kKept);
   EXPECT_EQ(
-      JudgeRefinement(refused, RefinedTo(refused, Shifted(0.5), true, 0.6), 0, config, {}).kept,
-      Refinement::kKept);
-  EXPECT_EQ(
-      JudgeRefinement(refused, RefinedTo(refused, Shifted(0.5), true, 0.6, true), 0, config, {})
+      JudgeRefinement(refused, RefinedTo(refused, testing::ShiftedAlongX(0.5), true, 0.6, true), 0,
+                      config, {})
           .kept,
       Refinement::kLeftItsEvidence);
 }
@@ -235,7 +225,7 @@ TEST(JudgeRules, IcpFromARefusedEstimateIsJudgedByTheCheckAlone) {
 TEST(JudgeRules, AnExtraSourcesRefinementKeepsItsFloor) {
   const PipelineConfig config;
   const RegistrationResult refused = Estimate(false, 0.1, 10);
-  const RegistrationResult refined = RefinedTo(refused, Shifted(1.3), true, 0.4);
+  const RegistrationResult refined = RefinedTo(refused, testing::ShiftedAlongX(1.3), true, 0.4);
   const KeptEvidence centroids{/*fraction_always=*/true, /*min_kept=*/0};
   const KeptEvidence points{/*fraction_always=*/false, /*min_kept=*/4};
   EXPECT_EQ(JudgeRefinement(refused, refined, 4, config, centroids).kept,
@@ -259,19 +249,23 @@ TEST(JudgeRules, AnEstimateWhoseRefinementIsAnotherAcceptedPoseIsNotValid) {
   const double coarse = config.refine.max_distance_coarse_m;
   const KeptEvidence points{false, 4};
   const RegistrationResult accepted = Estimate(true, 0.205, 8);
-  Refinement r = JudgeRefinement(accepted, RefinedTo(accepted, Shifted(2 * coarse), true, 0.203), 1,
-                                 config, points);
+  Refinement r = JudgeRefinement(
+      accepted, RefinedTo(accepted, testing::ShiftedAlongX(2 * coarse), true, 0.203), 1, config,
+      points);
   EXPECT_EQ(r.kept, Refinement::kLeftItsEvidence);
   EXPECT_TRUE(r.another_pose_passes);
   EXPECT_NEAR(r.apart_m, 2 * coarse, 1e-9);
-  r = JudgeRefinement(accepted, RefinedTo(accepted, Shifted(0.9 * coarse), true, 0.203), 1, config,
-                      points);
+  r = JudgeRefinement(accepted,
+                      RefinedTo(accepted, testing::ShiftedAlongX(0.9 * coarse), true, 0.203), 1,
+                      config, points);
   EXPECT_FALSE(r.another_pose_passes);
-  r = JudgeRefinement(accepted, RefinedTo(accepted, Shifted(2 * coarse), false, 0.203), 1, config,
-                      points);
+  r = JudgeRefinement(accepted,
+                      RefinedTo(accepted, testing::ShiftedAlongX(2 * coarse), false, 0.203), 1,
+                      config, points);
   EXPECT_FALSE(r.another_pose_passes);
-  r = JudgeRefinement(accepted, RefinedTo(accepted, Shifted(2 * coarse), true, 0.203), 1, config,
-                      {});
+  r = JudgeRefinement(accepted,
+                      RefinedTo(accepted, testing::ShiftedAlongX(2 * coarse), true, 0.203), 1,
+                      config, {});
   EXPECT_FALSE(r.another_pose_passes);
 }
 
@@ -281,13 +275,13 @@ TEST(JudgeRules, AValidResultBeyondThePriorsToleranceIsNotValid) {
   const Judge judge = s.judge();
   // Within the tolerance: unchanged.
   RegistrationResult r = Counted(true);
-  r.T_target_source = Turned(10) * Shifted(0.2);
+  r.T_target_source = testing::TurnedAboutZ(10) * testing::ShiftedAlongX(0.2);
   judge.ApplyPrior(&r);
   EXPECT_TRUE(r.valid);
   EXPECT_FALSE(r.outside_prior);
   // Turned beyond it: not valid, the rotation as the refusal's measure.
   r = Counted(true);
-  r.T_target_source = Turned(40);
+  r.T_target_source = testing::TurnedAboutZ(40);
   judge.ApplyPrior(&r);
   EXPECT_FALSE(r.valid);
   EXPECT_TRUE(r.outside_prior);
@@ -296,20 +290,20 @@ TEST(JudgeRules, AValidResultBeyondThePriorsToleranceIsNotValid) {
   EXPECT_EQ(r.refusal.threshold, 15.0);
   // Turned within, moved beyond: the translation (m).
   r = Counted(true);
-  r.T_target_source = Turned(5) * Shifted(0.5);
+  r.T_target_source = testing::TurnedAboutZ(5) * testing::ShiftedAlongX(0.5);
   judge.ApplyPrior(&r);
   EXPECT_FALSE(r.valid);
   EXPECT_NEAR(r.refusal.measured, 0.5, 1e-6);
   EXPECT_EQ(r.refusal.threshold, 0.30);
   // An invalid result keeps its own refusal; without a prior nothing changes.
   r = Counted(false);
-  r.T_target_source = Turned(90);
+  r.T_target_source = testing::TurnedAboutZ(90);
   judge.ApplyPrior(&r);
   EXPECT_EQ(r.refusal.test, RefusalTest::kFewInliers);
   EXPECT_FALSE(r.outside_prior);
   Stand none;
   r = Counted(true);
-  r.T_target_source = Turned(90);
+  r.T_target_source = testing::TurnedAboutZ(90);
   none.judge().ApplyPrior(&r);
   EXPECT_TRUE(r.valid);
 }
